@@ -1,0 +1,91 @@
+// lgi/core/integrator.hpp — what an integrator (a one-step method on SO(3) × R³) is.
+//
+// A stepper is a small class constructed from a problem (and StepperOptions), with its method's traits
+// as compile-time data, the coordinates it steps in, and one step function:
+//
+//   using Problem = P;  using Scalar = typename P::Scalar;
+//   using Internal = …;                                  // State<T> (R, Ω) or MomentumState<T> (R, Π), …
+//   static constexpr MethodTraits traits;
+//   Internal to_internal(const State<Scalar>&) const;    // at the start of a run
+//   State<Scalar> to_state(const Internal&) const;       // at output times only
+//   StepStatus step(Internal& y, const Scalar& t, const Scalar& h);
+//
+// step advances y from time t to t + h. On any status other than `ok` it leaves y untouched, so the
+// caller always holds the last good state. Steppers allocate nothing and keep no state between steps
+// that changes their result (counters only): the same (y, t, h) always gives the same bits.
+#pragma once
+
+#include "problem.hpp"
+#include "state.hpp"
+
+#include <concepts>
+#include <cstdint>
+#include <string_view>
+
+namespace lgi {
+
+// What a method is and what it preserves; `lgi list` and the README's method table print these.
+struct MethodTraits {
+  std::string_view name;         // scene name, e.g. "lgvi"
+  std::string_view title;        // e.g. "Lie group variational integrator"
+  int order;                     // classical order of convergence
+  bool symplectic;               // the step is a symplectic map of T*SO(3)
+  bool symmetric;                // step(h) ∘ step(−h) = id (time-reversible)
+  bool explicit_method;          // no nonlinear solve
+  bool exact_on_group;           // R stays on SO(3) to round-off by construction
+  bool preserves_momentum;       // the spatial momentum components conserved by the problem (m, m·k)
+  std::string_view reference;    // paper and equation numbers
+};
+
+enum class StepStatus : std::uint8_t {
+  ok = 0,
+  not_converged,  // the implicit equation's Newton iteration did not converge within its limits
+  non_finite,     // the step produced a non-finite number (torque NaN, overflow)
+};
+
+constexpr std::string_view to_string(StepStatus s) {
+  switch (s) {
+    case StepStatus::ok: return "ok";
+    case StepStatus::not_converged: return "Newton iteration did not converge";
+    case StepStatus::non_finite: return "non-finite state";
+  }
+  return "?";
+}
+
+// Options of implicit steps (explicit ones ignore them).
+struct StepperOptions {
+  double tolerance = 1e-14;  // Newton: stop when the update is below tolerance · |solution|
+  int max_iterations = 20;   // Newton: give up (StepStatus::not_converged) after this many updates
+};
+
+template <class S>
+concept Stepper = requires(S& s, const State<typename S::Scalar>& x, typename S::Internal& y,
+                           const typename S::Scalar& t) {
+  typename S::Problem;
+  typename S::Scalar;
+  typename S::Internal;
+  requires RigidBodyProblem<typename S::Problem>;
+  { S::traits } -> std::convertible_to<MethodTraits>;
+  { s.to_internal(x) } -> std::same_as<typename S::Internal>;
+  { s.to_state(y) } -> std::same_as<State<typename S::Scalar>>;
+  { s.step(y, t, t) } -> std::same_as<StepStatus>;
+};
+
+// Writes the new attitude and velocity (or momentum) into y when all of it is finite; the steppers'
+// common last line.
+template <class T>
+StepStatus commit(State<T>& y, const Mat3<T>& R, const Vec3<T>& Omega) {
+  if (!all_finite(R) || !all_finite(Omega)) return StepStatus::non_finite;
+  y.R = R;
+  y.Omega = Omega;
+  return StepStatus::ok;
+}
+template <class T>
+StepStatus commit(MomentumState<T>& y, const Mat3<T>& R, const Vec3<T>& Pi) {
+  if (!all_finite(R) || !all_finite(Pi)) return StepStatus::non_finite;
+  y.R = R;
+  y.Pi = Pi;
+  return StepStatus::ok;
+}
+
+}  // namespace lgi

@@ -1,0 +1,37 @@
+// lgi/core/invariants.hpp — the quantities conserved by rigid-body motion, for any problem.
+//
+//   energy           E = ½ Ω·JΩ + V(R)                    (conserved for every autonomous problem)
+//   spatial momentum m = R J Ω                            (free body: all of it; heavy top: m·k, the
+//                                                          seed paper's m_φ, eq. (s13) and its footnote)
+//   body momentum    |JΩ|                                 (free body: a Casimir)
+//   orthogonality    ‖RᵀR − I‖_F                          (zero on SO(3))
+// Problem-specific invariants (m·k, Kovalevskaya's integral, …) live with the problem's `invariants`.
+#pragma once
+
+#include "problem.hpp"
+#include "so3.hpp"
+#include "state.hpp"
+
+namespace lgi {
+
+template <class T>
+T kinetic_energy(const Mat3<T>& J, const Vec3<T>& Omega) {
+  return T(0.5) * Omega.dot(J * Omega);
+}
+
+template <RigidBodyProblem P>
+typename P::Scalar energy(const P& p, const State<typename P::Scalar>& x) {
+  return kinetic_energy(p.inertia, x.Omega) + p.potential(x.R);
+}
+
+template <class T>
+Vec3<T> spatial_momentum(const Mat3<T>& J, const State<T>& x) {
+  return x.R * (J * x.Omega);
+}
+
+template <class T>
+T body_momentum_norm(const Mat3<T>& J, const State<T>& x) {
+  return (J * x.Omega).norm();
+}
+
+}  // namespace lgi

@@ -1,0 +1,59 @@
+// lgi/core/problem.hpp — what a rigid-body problem is.
+//
+// A problem is a plain struct of parameters (templated on the scalar) with a few physics functions:
+//
+//   using Scalar = T;
+//   static constexpr std::string_view name;       // the scene's problem.type
+//   static constexpr bool has_torque;             // false: integrators skip the torque entirely
+//   Mat3<T> inertia;                              // body frame, symmetric positive definite
+//   T       potential(const Mat3<T>& R) const;    // V(R)
+//   Vec3<T> torque(const Mat3<T>& R) const;       // body-frame M(R) = −(∂V/∂η) for R → R·exp(η̂)
+//                                                 //   (or torque(t, R) for a time-dependent one)
+//   static constexpr std::array<std::string_view, N> invariant_names;   // extra output columns
+//   std::array<T, N> invariants(const State<T>& x) const;             // their values
+//   template <class S> Problem<S> cast() const;   // the same problem in another scalar (Jets)
+//
+// The equations of motion are those of the seed paper, eqs. (s4)–(s5):
+//   J Ω' = (JΩ) × Ω + M(R),    R' = R hat(Ω),
+// with energy E = ½ Ω·JΩ + V(R) (invariants.hpp computes it for every problem).
+#pragma once
+
+#include "scalar.hpp"
+#include "state.hpp"
+
+#include <array>
+#include <concepts>
+#include <string_view>
+#include <type_traits>
+
+namespace lgi {
+
+template <class P>
+concept RigidBodyProblem =
+    requires(const P& p, const Mat3<typename P::Scalar>& R, const State<typename P::Scalar>& x,
+             const typename P::Scalar& t) {
+      typename P::Scalar;
+      { P::name } -> std::convertible_to<std::string_view>;
+      { P::has_torque } -> std::convertible_to<bool>;
+      { p.inertia } -> std::convertible_to<Mat3<typename P::Scalar>>;
+      { p.potential(R) } -> std::convertible_to<typename P::Scalar>;
+      requires(requires { { p.torque(R) } -> std::convertible_to<Vec3<typename P::Scalar>>; } ||
+               requires { { p.torque(t, R) } -> std::convertible_to<Vec3<typename P::Scalar>>; });
+      P::invariant_names.size();
+      { p.invariants(x) } -> std::convertible_to<std::array<typename P::Scalar, P::invariant_names.size()>>;
+    };
+
+// Body-frame torque at time t, for time-dependent and autonomous problems alike.
+template <RigidBodyProblem P>
+Vec3<typename P::Scalar> body_torque(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) {
+  if constexpr (requires { p.torque(t, R); })
+    return p.torque(t, R);
+  else
+    return p.torque(R);
+}
+
+// The problem type P re-instantiated on scalar S (e.g. HeavyTop<double> → HeavyTop<Jet>).
+template <class P, class S>
+using rebind_problem_t = decltype(std::declval<const P&>().template cast<S>());
+
+}  // namespace lgi

@@ -1,0 +1,62 @@
+// lgi/core/scalar.hpp — what every numeric template in lgi assumes about its scalar.
+//
+// Everything numeric in lgi is a template on the scalar T, so that automatic-differentiation types
+// (ceres::Jet) flow through every map and integrator. The core never includes Ceres: a scalar is
+// recognised by duck typing. Branches that depend on the size of a quantity (small-angle Taylor
+// branches, Newton convergence tests) read the *value part* through `value_of`, so the branch taken
+// is the same for a Jet as for its double value.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <concepts>
+#include <limits>
+#include <type_traits>
+
+namespace lgi {
+
+template <class T>
+using Vec3 = Eigen::Matrix<T, 3, 1>;
+template <class T>
+using Mat3 = Eigen::Matrix<T, 3, 3>;
+
+// The value part of a scalar: x itself for arithmetic types, x.a (recursively) for ceres::Jet.
+template <class T>
+constexpr auto value_of(const T& x) {
+  if constexpr (std::is_arithmetic_v<T>) {
+    return x;
+  } else if constexpr (requires { x.a; }) {
+    return value_of(x.a);
+  } else {
+    static_assert(std::is_arithmetic_v<T>, "lgi::value_of: unsupported scalar type");
+    return 0.0;
+  }
+}
+
+// True when T carries derivative parts (Jets): Newton loops then take one extra iteration so that
+// the derivative part converges too (implicit function theorem), see NUMERICS.md "Traps".
+template <class T>
+inline constexpr bool is_dual_v = !std::is_arithmetic_v<T>;
+
+// Every component finite, value and derivative parts alike (ceres::isfinite checks only the value).
+template <class T>
+bool all_finite(const T& x) {
+  if constexpr (std::is_arithmetic_v<T>) {
+    return std::isfinite(x);
+  } else if constexpr (requires { x.a; x.v; }) {
+    return all_finite(x.a) && x.v.allFinite();
+  } else {  // a plain Eigen matrix or vector
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (!all_finite(x.data()[i])) return false;
+    return true;
+  }
+}
+
+// The arithmetic type under T (double for ceres::Jet<double, N>) and its machine epsilon.
+template <class T>
+using value_type_t = decltype(value_of(std::declval<T>()));
+template <class T>
+inline constexpr value_type_t<T> epsilon_v = std::numeric_limits<value_type_t<T>>::epsilon();
+
+}  // namespace lgi

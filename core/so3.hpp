@@ -1,0 +1,226 @@
+// lgi/core/so3.hpp — the rotation group SO(3) and its Lie algebra so(3) ≅ R³.
+//
+// Representation. A rotation is a plain 3×3 matrix R (Mat3<T>), body → laboratory: its columns are the
+// body axes in laboratory coordinates. Nothing here re-orthonormalises; every map below returns a matrix
+// orthogonal to round-off (‖RᵀR − I‖_F of a few ulps) when its input is, so products of them drift from
+// SO(3) only by a random walk of round-off (≈ √n·ε after n products; 2.5e-12 after 1e8 LGVI steps).
+//
+// Conventions (right trivialisation: body velocities, updates R·Exp(u)):
+//   hat(ω) v = ω × v,                               vee(hat(ω)) = ω
+//   exp(ω)   = I + A hat(ω) + B hat(ω)²             A = sin θ/θ, B = (1 − cos θ)/θ², θ = |ω|   (Rodrigues)
+//   log(R)   = ω with exp(ω) = R, θ ∈ [0, π]
+//   exp(ω + δ) = exp(ω) exp(J_r(ω) δ + O(δ²))        right Jacobian
+//   J_r(ω)   = I − B hat(ω) + C hat(ω)²              C = (θ − sin θ)/θ³
+//   J_r⁻¹(ω) = I + ½ hat(ω) + D hat(ω)²              D = 1/θ² − (1 + cos θ)/(2θ sin θ)
+//            = Σ_k B_k/k! (−ad_ω)^k (Bernoulli numbers B_k, B_1 = −½), singular at θ = 2π
+//   J_l(ω)   = J_r(−ω) = exp(ω) J_r(ω)
+//   cay(ω)   = (I − ½hat(ω))⁻¹(I + ½hat(ω)) = I + 4/(4 + θ²) (hat(ω) + ½ hat(ω)²)
+// References: Solà, Deray, Atchuthan, "A micro Lie theory for state estimation in robotics",
+// arXiv:1812.01537, App. B: eq. (132) Exp (Rodrigues), (133) Log, (143)–(146) J_r, J_r⁻¹, J_l, J_l⁻¹;
+// Hairer, Lubich, Wanner, Geometric Numerical Integration, 2nd ed. (2006), Lemma III.4.2 (dexp⁻¹ as a
+// Bernoulli series), §IV.8.3 Lemma 8.7 (Cayley map).
+//
+// Scalars. Every function is a template on T and correct for ceres::Jet: the coefficients A…D are
+// Taylor polynomials in θ² (never sqrt or division at θ = 0) below a threshold where the polynomial is
+// exact to round-off in value *and* first derivative; log takes the angle with atan2, switches to the
+// symmetric part of R for θ > π/2 (robust near π), and uses a series in sin²θ near the identity.
+#pragma once
+
+#include "scalar.hpp"
+
+namespace lgi::so3 {
+
+template <class T>
+Mat3<T> hat(const Vec3<T>& w) {
+  Mat3<T> W;
+  W << T(0), -w.z(), w.y(),  //
+      w.z(), T(0), -w.x(),   //
+      -w.y(), w.x(), T(0);
+  return W;
+}
+
+// The axial vector of the antisymmetric part: vee(M) = vee(½(M − Mᵀ)); exact inverse of hat.
+template <class T>
+Vec3<T> vee(const Mat3<T>& M) {
+  return Vec3<T>(M(2, 1) - M(1, 2), M(0, 2) - M(2, 0), M(1, 0) - M(0, 1)) * T(0.5);
+}
+
+// θ² below which the coefficients are evaluated by their Taylor polynomials. At θ² = 1e-2 the
+// truncated series below are exact to < 1e-18 relative in value and < 1e-15 in d/dθ².
+inline constexpr double small_angle_theta2 = 1e-2;
+
+namespace detail {
+// Horner evaluation of c0 + c1 x + c2 x² + … (coefficients as doubles, converted to T once each).
+template <class T, std::size_t N>
+T horner(const T& x, const double (&c)[N]) {
+  T r = T(c[N - 1]);
+  for (std::size_t i = N - 1; i-- > 0;) r = r * x + T(c[i]);
+  return r;
+}
+}  // namespace detail
+
+// Coefficients of the Rodrigues formula and of the Jacobians, computed once and shared.
+template <class T>
+struct Coefficients {
+  T theta2;  // θ² = ω·ω
+  T A;       // sin θ / θ
+  T B;       // (1 − cos θ)/θ²
+};
+
+template <class T>
+Coefficients<T> exp_coefficients(const Vec3<T>& w) {
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const T theta2 = w.squaredNorm();
+  if (value_of(theta2) < small_angle_theta2) {
+    static constexpr double a[] = {1.0, -1.0 / 6, 1.0 / 120, -1.0 / 5040, 1.0 / 362880, -1.0 / 39916800};
+    static constexpr double b[] = {0.5, -1.0 / 24, 1.0 / 720, -1.0 / 40320, 1.0 / 3628800, -1.0 / 479001600};
+    return {theta2, detail::horner(theta2, a), detail::horner(theta2, b)};
+  }
+  const T theta = sqrt(theta2);
+  const T s = sin(theta / T(2)) / theta;  // no cancellation in 1 − cos θ = 2 sin²(θ/2)
+  return {theta2, sin(theta) / theta, T(2) * s * s};
+}
+
+// exp: so(3) → SO(3), Rodrigues' formula.
+template <class T>
+Mat3<T> exp(const Vec3<T>& w) {
+  const Coefficients<T> k = exp_coefficients(w);
+  const Mat3<T> W = hat(w);
+  Mat3<T> R = k.A * W + k.B * (W * W);
+  R.diagonal().array() += T(1);
+  return R;
+}
+
+// log: SO(3) → so(3), the principal logarithm (θ ∈ [0, π]). At θ = π exactly, either of ±π·n is returned.
+template <class T>
+Vec3<T> log(const Mat3<T>& R) {
+  using std::atan2;
+  using std::sqrt;
+  const T c = (R.trace() - T(1)) / T(2);  // cos θ
+  const Vec3<T> v = vee(R);               // sin θ · n
+  if (value_of(c) >= 0) {                 // θ ≤ π/2: θ = asin(|v|)
+    const T s2 = v.squaredNorm();
+    if (value_of(s2) < small_angle_theta2) {
+      // asin(s)/s = Σ (2n)! / (4ⁿ (n!)² (2n+1)) s^(2n); exact to < 1e-20 for s² < 1e-2.
+      static constexpr double a[] = {1.0,          1.0 / 6,        3.0 / 40,        5.0 / 112,       35.0 / 1152,
+                                     63.0 / 2816, 231.0 / 13312, 143.0 / 10240, 6435.0 / 557056};
+      return detail::horner(s2, a) * v;
+    }
+    const T s = sqrt(s2);
+    return (atan2(s, c) / s) * v;
+  }
+  // θ > π/2: the symmetric part (R + Rᵀ)/2 − cos θ I = (1 − cos θ) n nᵀ gives the axis without
+  // dividing by sin θ; its largest diagonal entry is ≥ (1 − cos θ)/3 > 0.
+  Mat3<T> S = (R + R.transpose()) / T(2);
+  S.diagonal().array() -= c;
+  int i = 0;
+  if (value_of(S(1, 1)) > value_of(S(i, i))) i = 1;
+  if (value_of(S(2, 2)) > value_of(S(i, i))) i = 2;
+  Vec3<T> n = S.col(i) / sqrt(S(i, i) * (T(1) - c));
+  T sin_theta = n.dot(v);
+  if (value_of(sin_theta) < 0) {
+    n = -n;
+    sin_theta = -sin_theta;
+  }
+  return atan2(sin_theta, c) * n;
+}
+
+// D(θ²) = 1/θ² − (1 + cos θ)/(2θ sin θ), the coefficient of hat(ω)² in J_r⁻¹.
+template <class T>
+T jacobian_inverse_coefficient(const T& theta2) {
+  using std::sin;
+  using std::sqrt;
+  using std::tan;
+  if (value_of(theta2) < small_angle_theta2) {
+    static constexpr double d[] = {1.0 / 12, 1.0 / 720, 1.0 / 30240, 1.0 / 1209600, 1.0 / 47900160};
+    return detail::horner(theta2, d);
+  }
+  const T theta = sqrt(theta2);
+  // (θ/2) cot(θ/2) = θ sin θ / (2 (1 − cos θ)); written with tan(θ/2) to avoid the cancellation in 1 − cos θ.
+  return (T(1) - (theta / T(2)) / tan(theta / T(2))) / theta2;
+}
+
+// Right Jacobian J_r(ω): exp(ω + δ) = exp(ω) exp(J_r(ω) δ) to first order in δ.
+template <class T>
+Mat3<T> right_jacobian(const Vec3<T>& w) {
+  using std::sin;
+  using std::sqrt;
+  const T theta2 = w.squaredNorm();
+  T B, C;  // (1 − cos θ)/θ², (θ − sin θ)/θ³
+  if (value_of(theta2) < small_angle_theta2) {
+    static constexpr double b[] = {0.5, -1.0 / 24, 1.0 / 720, -1.0 / 40320, 1.0 / 3628800, -1.0 / 479001600};
+    static constexpr double c[] = {1.0 / 6, -1.0 / 120, 1.0 / 5040, -1.0 / 362880, 1.0 / 39916800, -1.0 / 6227020800};
+    B = detail::horner(theta2, b);
+    C = detail::horner(theta2, c);
+  } else {
+    const T theta = sqrt(theta2);
+    const T s = sin(theta / T(2)) / theta;
+    B = T(2) * s * s;
+    C = (theta - sin(theta)) / (theta2 * theta);
+  }
+  const Mat3<T> W = hat(w);
+  Mat3<T> J = C * (W * W) - B * W;
+  J.diagonal().array() += T(1);
+  return J;
+}
+
+// Inverse right Jacobian J_r⁻¹(ω) (closed form, valid for θ < 2π).
+template <class T>
+Mat3<T> right_jacobian_inverse(const Vec3<T>& w) {
+  const Mat3<T> W = hat(w);
+  Mat3<T> J = jacobian_inverse_coefficient(w.squaredNorm()) * (W * W) + T(0.5) * W;
+  J.diagonal().array() += T(1);
+  return J;
+}
+
+// Left Jacobian J_l(ω) = J_r(−ω): exp(ω + δ) = exp(J_l(ω) δ) exp(ω) to first order.
+template <class T>
+Mat3<T> left_jacobian(const Vec3<T>& w) {
+  return right_jacobian(Vec3<T>(-w));
+}
+
+// J_r⁻¹(u) v truncated after the ad_u^K term: Σ_{k≤K} B_k/k! (−ad_u)^k v
+//   = v + ½ u×v + (1/12) u×(u×v) − (1/720) ad_u⁴ v + (1/30240) ad_u⁶ v − (1/1209600) ad_u⁸ v.
+// An RKMK method of order p needs K = p − 2 (Hairer–Lubich–Wanner, Theorem IV.8.5; Munthe-Kaas,
+// Appl. Numer. Math. 29 (1999) 115);
+// the truncated series is a polynomial: no trigonometric functions, exact for Jets.
+template <int K, class T>
+Vec3<T> right_jacobian_inverse_series(const Vec3<T>& u, const Vec3<T>& v) {
+  static_assert(K >= 0 && K <= 8, "right_jacobian_inverse_series: K in [0, 8]");
+  Vec3<T> r = v;
+  if constexpr (K >= 1) {
+    static constexpr double coeff[] = {0, 0.5, 1.0 / 12, 0, -1.0 / 720, 0, 1.0 / 30240, 0, -1.0 / 1209600};
+    Vec3<T> w = v;
+    for (int k = 1; k <= K; ++k) {
+      w = u.cross(w);
+      if (coeff[k] != 0) r += T(coeff[k]) * w;
+    }
+  }
+  return r;
+}
+
+// Cayley map and its inverse (defined for θ < π).
+template <class T>
+Mat3<T> cayley(const Vec3<T>& w) {
+  const Mat3<T> W = hat(w);
+  Mat3<T> R = (T(4) / (T(4) + w.squaredNorm())) * (W + T(0.5) * (W * W));
+  R.diagonal().array() += T(1);
+  return R;
+}
+
+template <class T>
+Vec3<T> cayley_inverse(const Mat3<T>& R) {
+  return (T(4) / (T(1) + R.trace())) * vee(R);  // 2 vee(R − Rᵀ)/(1 + tr R)
+}
+
+// ‖RᵀR − I‖_F: distance from orthogonality.
+template <class T>
+T orthogonality_error(const Mat3<T>& R) {
+  Mat3<T> E = R.transpose() * R;
+  E.diagonal().array() -= T(1);
+  return E.norm();
+}
+
+}  // namespace lgi::so3

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs the Debian packages lgi needs, only those that are missing.
+# Idempotent and silent when everything is present; safe to run before every build.
+#
+#   scripts/install-deps.sh            build + test dependencies
+#   LGI_DEPS_EXTRA="pkg ..." scripts/install-deps.sh   also install extra packages
+set -euo pipefail
+
+packages=(
+  build-essential       # g++ 12, make
+  cmake                 # >= 3.25
+  libeigen3-dev         # Eigen 3.4: the core's only dependency
+  libceres-dev          # Ceres 2.1: ceres::Jet in tests, fitting
+  libgtest-dev libgmock-dev
+  libbenchmark-dev      # Google Benchmark
+  nlohmann-json3-dev    # scene files
+  libcli11-dev          # command line
+  valgrind              # callgrind instruction counts (benchmarks)
+)
+# shellcheck disable=SC2206
+packages+=(${LGI_DEPS_EXTRA:-})
+
+missing=()
+for p in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+  [[ "$status" == "install ok installed" ]] || missing+=("$p")
+done
+((${#missing[@]} == 0)) && exit 0
+
+echo "install-deps: installing ${missing[*]}" >&2
+sudo=()
+if ((EUID != 0)); then
+  command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  sudo=(sudo)
+fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo[@]}" apt-get update -qq >&2
+"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2

@@ -1,0 +1,108 @@
+// Long runs, measured: 10⁶ steps on the heavy top. The LGVI keeps R on SO(3) to round-off, its energy
+// error bounded (no secular drift) and m·k to round-off; RKMK4 keeps R on SO(3) too but drifts in energy —
+// the negative control that shows the drift test can fail.
+#include "test_problems.hpp"
+
+#include <lgi/core/driver.hpp>
+#include <lgi/core/invariants.hpp>
+#include <lgi/integrators/lgvi.hpp>
+#include <lgi/integrators/rkmk.hpp>
+#include <lgi/problems/heavy_top.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace lgi {
+namespace {
+
+struct Trajectory {
+  std::vector<double> t, energy_error, momentum_error, orthogonality;
+};
+
+// Integrates n_steps of size h, sampling the relative energy error, the m·k error relative to |m| and
+// ‖RᵀR − I‖ every `every` steps. (m·k is measured against |m|, the scale of its round-off, because m·k
+// itself may be near zero: for the skew top m·k = −0.10 while |m| = 1.85.)
+template <template <class> class Method>
+Trajectory long_run(const HeavyTop<double>& problem, const State<double>& x0, double h, std::int64_t n_steps,
+             std::int64_t every) {
+  Method<HeavyTop<double>> stepper(problem);
+  const double E0 = energy(problem, x0);
+  const double mk0 = problem.invariants(x0)[0];
+  const double m0 = spatial_momentum(problem.inertia, x0).norm();
+  Trajectory run;
+  auto observe = [&](double t, const State<double>& x) {
+    run.t.push_back(t);
+    run.energy_error.push_back((energy(problem, x) - E0) / std::abs(E0));
+    run.momentum_error.push_back((problem.invariants(x)[0] - mk0) / m0);
+    run.orthogonality.push_back(so3::orthogonality_error(x.R));
+  };
+  State<double> x = x0;
+  const auto summary = integrate_every(stepper, x, 0.0, h, h * static_cast<double>(n_steps), every, observe);
+  EXPECT_EQ(summary.status, RunStatus::completed);
+  EXPECT_EQ(summary.steps, n_steps);
+  return run;
+}
+
+double max_abs(const std::vector<double>& v, std::size_t from, std::size_t to) {
+  double m = 0;
+  for (std::size_t i = from; i < to; ++i) m = std::max(m, std::abs(v[i]));
+  return m;
+}
+
+// Largest |error| in the last tenth of the run over the largest in the first tenth: ≈ 1 for a bounded
+// error, ≈ 10 (or more) for one growing linearly from zero.
+double growth_ratio(const std::vector<double>& err) {
+  const std::size_t n = err.size(), tenth = n / 10;
+  return max_abs(err, n - tenth, n) / max_abs(err, 1, tenth);
+}
+
+TEST(LongRun, LgviHeavyTopMillionSteps) {
+  const auto problem = HeavyTop<double>::hairer_vilmart();
+  const Trajectory run = long_run<Lgvi>(problem, test::hairer_vilmart_state(problem), 0.01, 1'000'000, 100);
+  const double orth = max_abs(run.orthogonality, 0, run.orthogonality.size());
+  const double mk = max_abs(run.momentum_error, 0, run.momentum_error.size());
+  const double energy = max_abs(run.energy_error, 0, run.energy_error.size());
+  const double growth = growth_ratio(run.energy_error);
+  std::printf("LGVI 1e6 steps h=0.01: max |RtR-I| %.3e, max m.k error / |m| %.3e, max rel. energy error %.3e, "
+              "energy growth ratio (last/first tenth) %.3f\n",
+              orth, mk, energy, growth);
+  EXPECT_LE(orth, 1e-12);
+  EXPECT_LE(mk, 1e-12);
+  EXPECT_LT(growth, 1.5);  // bounded: the last tenth's error no larger than the first's (+50 %)
+  EXPECT_LT(energy, 1e-3);  // O(h²) for h = 0.01
+}
+
+TEST(LongRun, LgviSkewHeavyTopMillionSteps) {
+  const auto problem = test::skew_heavy_top();
+  const Trajectory run = long_run<Lgvi>(problem, test::skew_initial_state(), 0.01, 1'000'000, 100);
+  const double growth = growth_ratio(run.energy_error);
+  std::printf("LGVI skew top 1e6 steps: max |RtR-I| %.3e, max m.k error / |m| %.3e, energy growth ratio %.3f\n",
+              max_abs(run.orthogonality, 0, run.orthogonality.size()),
+              max_abs(run.momentum_error, 0, run.momentum_error.size()), growth);
+  EXPECT_LE(max_abs(run.orthogonality, 0, run.orthogonality.size()), 1e-12);
+  EXPECT_LE(max_abs(run.momentum_error, 0, run.momentum_error.size()), 1e-12);
+  EXPECT_LT(growth, 1.5);
+}
+
+TEST(LongRun, Rkmk4StaysOnTheGroupButDriftsInEnergy) {
+  const auto problem = HeavyTop<double>::hairer_vilmart();
+  const Trajectory fine = long_run<Rkmk4>(problem, test::hairer_vilmart_state(problem), 0.01, 1'000'000, 100);
+  const double orth = max_abs(fine.orthogonality, 0, fine.orthogonality.size());
+  std::printf("RKMK4 1e6 steps h=0.01: max |RtR-I| %.3e, energy growth ratio %.3f, final rel. energy error %.3e\n",
+              orth, growth_ratio(fine.energy_error), fine.energy_error.back());
+  EXPECT_LE(orth, 1e-12);
+
+  // Negative control (NUMERICS.md: RK4, RKMK4, CF4 drift linearly at h = 0.05): the growth test flags it.
+  const Trajectory coarse = long_run<Rkmk4>(problem, test::hairer_vilmart_state(problem), 0.05, 200'000, 20);
+  const double growth = growth_ratio(coarse.energy_error);
+  std::printf("RKMK4 2e5 steps h=0.05: energy growth ratio %.3f, final rel. energy error %.3e\n", growth,
+              coarse.energy_error.back());
+  EXPECT_GT(growth, 5.0);
+}
+
+}  // namespace
+}  // namespace lgi

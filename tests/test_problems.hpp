@@ -1,0 +1,86 @@
+// Shared test data and an independent reference integrator.
+//
+// The reference integrates the rigid body in the embedding R^{3×3} × R³ (all nine entries of R and Ω)
+// with the classical RK4 in long double — a different method, coordinates and precision from every lgi
+// integrator, so that an error measured against it belongs to the method under test.
+#pragma once
+
+#include <lgi/core/problem.hpp>
+#include <lgi/core/so3.hpp>
+#include <lgi/core/state.hpp>
+#include <lgi/problems/heavy_top.hpp>
+
+#include <cmath>
+#include <vector>
+
+namespace lgi::test {
+
+// A heavy top with nothing aligned: non-diagonal inertia (principal moments 0.9, 1.3, 1.7 rotated by
+// Q = exp(0.3, −0.5, 0.7)), z0 and k off the principal axes, a tilted initial attitude.
+inline HeavyTop<double> skew_heavy_top() {
+  HeavyTop<double> p;
+  const Mat3<double> Q = so3::exp(Vec3<double>(0.3, -0.5, 0.7));
+  p.inertia = Q * Vec3<double>(0.9, 1.3, 1.7).asDiagonal() * Q.transpose();
+  p.inertia = 0.5 * (p.inertia + p.inertia.transpose()).eval();
+  p.b = 1.3;
+  p.k = Vec3<double>(0.1, 0.6, 0.8).normalized();
+  p.z0 = Vec3<double>(0.3, -0.4, 0.87).normalized();
+  return p;
+}
+
+inline State<double> skew_initial_state() {
+  return {so3::exp(Vec3<double>(0.4, 0.2, -0.3)), Vec3<double>(0.7, -0.4, 1.1)};
+}
+
+// The Hairer–Vilmart initial state: m0 = JΩ0 = (1.8, 0.4, −0.9), R0 = I (NUMERICS.md).
+template <class P>
+State<double> hairer_vilmart_state(const P& p) {
+  return {Mat3<double>::Identity(), p.inertia.inverse() * Vec3<double>(1.8, 0.4, -0.9)};
+}
+
+// Classical RK4 on (R, Ω) ∈ R^{3×3} × R³ in long double, n steps over [0, T].
+template <RigidBodyProblem P>
+State<double> reference_solution(const P& problem, const State<double>& x0, double T, int n) {
+  using L = long double;
+  const auto p = problem.template cast<L>();
+  const Mat3<L> J = p.inertia;
+  const Mat3<L> J_inv = J.inverse();
+  struct Y {
+    Mat3<L> R;
+    Vec3<L> W;
+  };
+  const auto f = [&](const Y& y) {
+    Vec3<L> rhs = (J * y.W).cross(y.W) + body_torque(p, L(0), y.R);
+    return Y{y.R * so3::hat(y.W), J_inv * rhs};
+  };
+  const auto axpy = [](const Y& y, L a, const Y& k) { return Y{y.R + a * k.R, y.W + a * k.W}; };
+  Y y{x0.R.cast<L>(), x0.Omega.cast<L>()};
+  const L h = L(T) / n;
+  for (int i = 0; i < n; ++i) {
+    const Y k1 = f(y), k2 = f(axpy(y, h / 2, k1)), k3 = f(axpy(y, h / 2, k2)), k4 = f(axpy(y, h, k3));
+    y.R += (h / 6) * (k1.R + 2 * k2.R + 2 * k3.R + k4.R);
+    y.W += (h / 6) * (k1.W + 2 * k2.W + 2 * k3.W + k4.W);
+  }
+  return {y.R.template cast<double>(), y.W.template cast<double>()};
+}
+
+// Distance between states: |log(R_aᵀ R_b)| + |Ω_a − Ω_b|.
+inline double state_distance(const State<double>& a, const State<double>& b) {
+  return so3::log(Mat3<double>(a.R.transpose() * b.R)).norm() + (a.Omega - b.Omega).norm();
+}
+
+// Least-squares slope of log(err) against log(h).
+inline double fitted_order(const std::vector<double>& h, const std::vector<double>& err) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(h.size());
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    const double x = std::log(h[i]), y = std::log(err[i]);
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+}  // namespace lgi::test
