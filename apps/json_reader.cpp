@@ -1,0 +1,301 @@
+#include "json_reader.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <system_error>
+
+namespace lgi::app {
+
+std::string pointer_token(std::string_view key) {
+  std::string out;
+  for (const char c : key) {
+    if (c == '~')
+      out += "~0";
+    else if (c == '/')
+      out += "~1";
+    else
+      out += c;
+  }
+  return out;
+}
+
+std::string format_number(double x) {
+  char buf[64];
+  for (int precision = 6; precision <= 17; ++precision) {  // shortest that reads back exactly
+    const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, precision);
+    double back = 0;
+    std::from_chars(buf, r.ptr, back);
+    if (back == x || precision == 17) return std::string(buf, r.ptr);
+  }
+  return {};
+}
+
+std::string describe(const json& v) {
+  switch (v.type()) {
+    case json::value_t::null: return "null";
+    case json::value_t::boolean: return v.get<bool>() ? "true" : "false";
+    case json::value_t::string: {
+      std::string s = v.get<std::string>();
+      if (s.size() > 40) s = s.substr(0, 37) + "...";
+      return "a string (\"" + s + "\")";
+    }
+    case json::value_t::number_integer:
+    case json::value_t::number_unsigned:
+    case json::value_t::number_float: return "the number " + format_number(v.get<double>());
+    case json::value_t::array: return "an array of " + std::to_string(v.size());
+    case json::value_t::object: return "an object";
+    default: return "a value of type " + std::string(v.type_name());
+  }
+}
+
+namespace {
+
+// Line and column (1-based) of byte offset `pos` in `text`.
+std::pair<std::size_t, std::size_t> line_column(const std::string& text, std::size_t pos) {
+  pos = std::min(pos, text.size());
+  std::size_t line = 1, col = 1;
+  for (std::size_t i = 0; i < pos; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return {line, col};
+}
+
+// Builds the DOM through nlohmann's own SAX DOM builder while tracking the JSON pointer of the value
+// being parsed, so that duplicate keys and number overflows are reported where they are.
+class TrackingSax {
+ public:
+  using number_integer_t = json::number_integer_t;
+  using number_unsigned_t = json::number_unsigned_t;
+  using number_float_t = json::number_float_t;
+  using string_t = json::string_t;
+  using binary_t = json::binary_t;
+
+  explicit TrackingSax(json& root) : dom_(root, /*allow_exceptions=*/false) {}
+
+  bool null() { return value(dom_.null()); }
+  bool boolean(bool b) { return value(dom_.boolean(b)); }
+  bool number_integer(number_integer_t i) { return value(dom_.number_integer(i)); }
+  bool number_unsigned(number_unsigned_t u) { return value(dom_.number_unsigned(u)); }
+  bool number_float(number_float_t f, const string_t& s) { return value(dom_.number_float(f, s)); }
+  bool string(string_t& s) { return value(dom_.string(s)); }
+  bool binary(binary_t& b) { return value(dom_.binary(b)); }
+
+  bool start_object(std::size_t n) {
+    frames_.push_back({true, {}, 0, {}});
+    return dom_.start_object(n);
+  }
+  bool key(string_t& k) {
+    Frame& f = frames_.back();
+    f.key = k;
+    if (!f.keys.insert(k).second) {
+      error_ = "duplicate key \"" + k + "\"";
+      error_pointer_ = pointer(frames_.size() - 1);  // the object holding the key twice
+      located_ = true;
+      return false;
+    }
+    return dom_.key(k);
+  }
+  bool end_object() {
+    frames_.pop_back();
+    return value(dom_.end_object());
+  }
+  bool start_array(std::size_t n) {
+    frames_.push_back({false, {}, 0, {}});
+    return dom_.start_array(n);
+  }
+  bool end_array() {
+    frames_.pop_back();
+    return value(dom_.end_array());
+  }
+  bool parse_error(std::size_t position, const std::string& token, const nlohmann::detail::exception& ex) {
+    position_ = position;
+    error_pointer_ = pointer();
+    std::string what = ex.what();
+    // Drop nlohmann's "[json.exception.parse_error.101] parse error at line 1, column 6: " prefix.
+    if (const auto colon = what.find(": "); what.rfind("[json.exception.parse_error", 0) == 0 && colon != std::string::npos)
+      what = what.substr(colon + 2);
+    else if (const auto bracket = what.find("] "); bracket != std::string::npos)
+      what = what.substr(bracket + 2);
+    if (ex.id == 406) {
+      what = "number " + token + " is out of the range of a double";
+      located_ = true;
+    }
+    error_ = what;
+    return false;
+  }
+
+  const std::string& error() const { return error_; }
+  // The error belongs to the value at error_pointer() (not a syntax error).
+  bool located() const { return located_; }
+  const std::string& error_pointer() const { return error_pointer_; }
+  std::size_t position() const { return position_; }
+
+ private:
+  struct Frame {
+    bool object;
+    std::string key;
+    std::size_t index;
+    std::set<std::string> keys;
+  };
+
+  // After a complete value: the enclosing array moves on to its next element.
+  bool value(bool ok) {
+    if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+    return ok;
+  }
+  std::string pointer(std::size_t depth = std::string::npos) const {
+    std::string p;
+    for (std::size_t i = 0; i < std::min(depth, frames_.size()); ++i) {
+      const Frame& f = frames_[i];
+      p += '/';
+      p += f.object ? pointer_token(f.key) : std::to_string(f.index);
+    }
+    return p;
+  }
+
+  nlohmann::detail::json_sax_dom_parser<json> dom_;
+  std::vector<Frame> frames_;
+  std::string error_, error_pointer_;
+  std::size_t position_ = 0;
+  bool located_ = false;
+};
+
+}  // namespace
+
+json parse_json(const std::string& text, const std::string& file) {
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(file + ": the file is empty");
+  json root;
+  TrackingSax sax(root);
+  const bool ok = json::sax_parse(text, &sax, json::input_format_t::json, /*strict=*/true);
+  if (!ok) {
+    const auto [line, col] = line_column(text, sax.position() > 0 ? sax.position() - 1 : 0);
+    const std::string position = std::to_string(line) + ":" + std::to_string(col);
+    if (sax.located())  // a bad value at a known path: "<file>: <path>: <what> (line:column)"
+      throw InputError(file + ": " + (sax.error_pointer().empty() ? "/" : sax.error_pointer()) + ": " + sax.error() +
+                       (sax.position() > 0 ? " (at " + position + ")" : ""));
+    throw InputError(file + ":" + position + ": invalid JSON: " + sax.error());
+  }
+  return root;
+}
+
+json read_json_file(const std::string& file) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(file, ec);
+  if (ec) throw InputError(file + ": cannot read the file: " + ec.message());
+  if (fs::is_directory(status)) throw InputError(file + ": cannot read the file: it is a directory");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(file + ": cannot read the file: " + std::strerror(errno));
+  // Read at most one byte past the limit, so a huge (or endless) input is refused without reading it all.
+  std::string text;
+  char buffer[1 << 16];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > max_input_bytes)
+      throw InputError(file + ": the file is larger than the limit of " + std::to_string(max_input_bytes) +
+                       " bytes for an input file");
+  }
+  if (in.bad()) throw InputError(file + ": cannot read the file: read error");
+  return parse_json(text, file);
+}
+
+// ---- Node ---------------------------------------------------------------------------------------
+
+void Node::fail(const std::string& message) const { throw InputError(file_ + ": " + where() + ": " + message); }
+
+Node Node::at(std::string_view key) const {
+  if (auto n = find(key)) return *n;
+  fail("missing key \"" + std::string(key) + "\"");
+}
+
+std::optional<Node> Node::find(std::string_view key) const {
+  if (!v_.is_object()) fail("expected an object, got " + describe(v_));
+  const auto it = v_.find(std::string(key));
+  if (it == v_.end()) return std::nullopt;
+  return Node(*it, ptr_ + "/" + pointer_token(key), file_);
+}
+
+Node Node::at(std::size_t index) const { return Node(v_.at(index), ptr_ + "/" + std::to_string(index), file_); }
+
+std::size_t Node::size() const {
+  if (!v_.is_array()) fail("expected an array, got " + describe(v_));
+  return v_.size();
+}
+
+void Node::allow_only(std::initializer_list<std::string_view> allowed, std::string_view owner) const {
+  allow_only(std::vector<std::string_view>(allowed), owner);
+}
+
+void Node::allow_only(const std::vector<std::string_view>& allowed, std::string_view owner) const {
+  if (!v_.is_object()) fail("expected an object, got " + describe(v_));
+  for (const auto& [key, value] : v_.items()) {
+    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+    Node(value, ptr_ + "/" + pointer_token(key), file_)
+        .fail("unknown key" + (owner.empty() ? std::string() : " for " + std::string(owner)) + " (allowed: " + list +
+              ")");
+  }
+}
+
+std::string Node::string() const {
+  if (!v_.is_string()) fail("expected a string, got " + describe(v_));
+  return v_.get<std::string>();
+}
+
+double Node::number() const {
+  if (!v_.is_number()) fail("expected a number, got " + describe(v_));
+  const double x = v_.get<double>();
+  if (!std::isfinite(x)) fail("expected a finite number, got " + format_number(x));
+  return x;
+}
+
+double Node::positive() const {
+  const double x = number();
+  if (!(x > 0)) fail("must be > 0, got " + format_number(x));
+  return x;
+}
+
+double Node::non_negative() const {
+  const double x = number();
+  if (!(x >= 0)) fail("must be >= 0, got " + format_number(x));
+  return x;
+}
+
+std::int64_t Node::integer(std::int64_t lo, std::int64_t hi) const {
+  const double x = number();
+  if (std::trunc(x) != x || x < static_cast<double>(lo) || x > static_cast<double>(hi))
+    fail("expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " + format_number(x));
+  return static_cast<std::int64_t>(x);
+}
+
+Vec3<double> Node::vec3() const {
+  if (!v_.is_array() || v_.size() != 3) fail("expected an array of 3 numbers, got " + describe(v_));
+  return {at(0).number(), at(1).number(), at(2).number()};
+}
+
+Mat3<double> Node::mat3() const {
+  if (!v_.is_array() || v_.size() != 3) fail("expected a 3x3 array (3 rows of 3 numbers), got " + describe(v_));
+  Mat3<double> M;
+  for (std::size_t r = 0; r < 3; ++r) {
+    const Node row = at(r);
+    if (!row.v_.is_array() || row.v_.size() != 3) row.fail("expected a row of 3 numbers, got " + describe(row.v_));
+    for (std::size_t c = 0; c < 3; ++c)
+      M(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = row.at(c).number();
+  }
+  return M;
+}
+
+}  // namespace lgi::app

@@ -1,0 +1,83 @@
+// lgi/apps/json_reader.hpp — reading JSON input files with errors that name the file and the JSON path.
+//
+// Every error is an InputError whose message reads "<file>: <JSON pointer>: <what is wrong>" (or
+// "<file>:<line>:<column>: ..." for syntax errors), thrown before any output is produced. The parser
+// rejects duplicate keys (nlohmann accepts them silently), reports numbers that overflow a double with
+// their path and position, and refuses files larger than `max_input_bytes`. Numbers are read as doubles
+// and range-checked, integers included (a JSON 1e300 or 2.7 is never cast to an integer).
+#pragma once
+
+#include <lgi/core/scalar.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <initializer_list>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace lgi::app {
+
+using json = nlohmann::json;
+
+// Bad input: the message names the file, the JSON path and the problem.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+inline constexpr std::size_t max_input_bytes = 64u << 20;
+
+// Parses `text` (the contents of `file`) with duplicate-key detection and positioned errors.
+json parse_json(const std::string& text, const std::string& file);
+// Reads and parses a file; unreadable, oversized and malformed files are InputErrors.
+json read_json_file(const std::string& file);
+
+// A JSON value with its location, and typed accessors that fail with the location in the message.
+class Node {
+ public:
+  Node(const json& value, std::string pointer, const std::string& file) : v_(value), ptr_(std::move(pointer)), file_(file) {}
+
+  const json& value() const { return v_; }
+  const std::string& pointer() const { return ptr_; }  // "" for the document root
+  std::string where() const { return ptr_.empty() ? std::string("/") : ptr_; }
+  bool is_object() const { return v_.is_object(); }
+  bool is_array() const { return v_.is_array(); }
+
+  [[noreturn]] void fail(const std::string& message) const;
+
+  Node at(std::string_view key) const;                  // a required key of an object
+  std::optional<Node> find(std::string_view key) const;  // an optional key of an object
+  Node at(std::size_t index) const;                     // an element of an array
+  std::size_t size() const;                             // of an array (fails if not an array)
+
+  // Fails on the first key of this object not in `allowed` (listing the allowed ones).
+  void allow_only(std::initializer_list<std::string_view> allowed, std::string_view owner = {}) const;
+  void allow_only(const std::vector<std::string_view>& allowed, std::string_view owner = {}) const;
+
+  std::string string() const;
+  double number() const;  // a finite number
+  double positive() const;
+  double non_negative() const;
+  // An integer in [lo, hi], given as a JSON number with no fractional part.
+  std::int64_t integer(std::int64_t lo, std::int64_t hi) const;
+  Vec3<double> vec3() const;
+  Mat3<double> mat3() const;
+
+ private:
+  const json& v_;
+  std::string ptr_;
+  const std::string& file_;
+};
+
+// A JSON pointer token with '~' and '/' escaped (RFC 6901).
+std::string pointer_token(std::string_view key);
+// A short description of a JSON value for messages: "a string (\"fast\")", "an array of 2", ...
+std::string describe(const json& v);
+// A double formatted with up to 17 significant digits, shortest form that reads back the same.
+std::string format_number(double x);
+
+}  // namespace lgi::app

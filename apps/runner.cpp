@@ -1,0 +1,180 @@
+#include "runner.hpp"
+
+#include <lgi/core/invariants.hpp>
+#include <lgi/core/so3.hpp>
+
+#include <unistd.h>
+
+#include <array>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <span>
+
+namespace lgi::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Formats one CSV row into a fixed buffer: no allocation per row.
+class RowWriter {
+ public:
+  explicit RowWriter(std::FILE* out) : out_(out) {}
+  void add(double x) {
+    if (n_ > 0) buf_[n_++] = ',';
+    n_ = static_cast<std::size_t>(
+        std::to_chars(buf_.data() + n_, buf_.data() + buf_.size(), x, std::chars_format::general, 17).ptr -
+        buf_.data());
+  }
+  void end_row() {
+    buf_[n_++] = '\n';
+    if (std::fwrite(buf_.data(), 1, n_, out_) != n_) failed_ = true;
+    n_ = 0;
+  }
+  bool failed() const { return failed_; }
+
+ private:
+  std::FILE* out_;
+  std::array<char, 2048> buf_{};
+  std::size_t n_ = 0;
+  bool failed_ = false;
+};
+
+template <class P>
+std::string header_for() {
+  std::string h = "t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega1,omega2,omega3,energy,orthogonality_error";
+  for (const auto& name : P::invariant_names) {
+    h += ',';
+    h += name;
+  }
+  return h;
+}
+
+// Progress on stderr: at most four times a second, only once a run has taken more than a second.
+struct Progress {
+  bool enabled;
+  std::int64_t total;
+  Clock::time_point start = Clock::now(), last = start;
+  bool printed = false;
+  bool operator()(std::int64_t steps) {
+    if (!enabled) return true;
+    const auto now = Clock::now();
+    if (now - start < std::chrono::seconds(1) || now - last < std::chrono::milliseconds(250)) return true;
+    last = now;
+    printed = true;
+    std::fprintf(stderr, "\r  %5.1f %%  %lld of %lld steps", 100.0 * static_cast<double>(steps) / static_cast<double>(total),
+                 static_cast<long long>(steps), static_cast<long long>(total));
+    std::fflush(stderr);
+    return true;
+  }
+  void finish() const {
+    if (printed) std::fprintf(stderr, "\r%60s\r", "");
+  }
+};
+
+template <template <class> class Method, class P>
+RunReport run_with(const P& problem, const Scene& scene, const RunOptions& options) {
+  RunReport report;
+  report.expected_steps = static_cast<std::int64_t>(std::ceil(scene.t_end / scene.dt - 1e-9));
+  Method<P> stepper(problem, scene.options);
+  RowWriter row(options.csv);
+  if (options.csv) {
+    const std::string h = header_for<P>() + "\n";
+    if (std::fwrite(h.data(), 1, h.size(), options.csv) != h.size()) report.write_failed = true;
+  }
+  auto observe = [&](double t, const State<double>& x) {
+    if (!options.csv) return;
+    row.add(t);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) row.add(x.R(r, c));
+    for (int i = 0; i < 3; ++i) row.add(x.Omega(i));
+    row.add(energy(problem, x));
+    row.add(so3::orthogonality_error(x.R));
+    for (const double v : problem.invariants(x)) row.add(v);
+    row.end_row();
+  };
+  Progress progress{options.progress, report.expected_steps};
+
+  State<double> x = scene.initial;
+  report.energy_initial = energy(problem, x);
+  const auto inv0 = problem.invariants(x);
+  const auto start = Clock::now();
+  if (!scene.output_times.empty()) {
+    std::vector<double> times = scene.output_times;
+    if (times.back() < scene.t_end) times.push_back(scene.t_end);
+    report.summary = integrate_times(stepper, x, 0.0, scene.dt, std::span<const double>(times), observe, progress);
+  } else {
+    const std::int64_t every = scene.output_every > 0 ? scene.output_every : std::int64_t{1} << 62;
+    report.summary = integrate_every(stepper, x, 0.0, scene.dt, scene.t_end, every, observe, progress);
+  }
+  report.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  progress.finish();
+
+  report.final_state = x;
+  report.energy_final = energy(problem, x);
+  const auto inv1 = problem.invariants(x);
+  for (std::size_t i = 0; i < inv0.size(); ++i)
+    report.invariants.push_back({std::string(P::invariant_names[i]), inv0[i], inv1[i]});
+  if constexpr (requires { stepper.newton_iterations(); }) report.newton_iterations = stepper.newton_iterations();
+  report.write_failed = report.write_failed || row.failed();
+  return report;
+}
+
+template <class P, template <class> class... Ms>
+RunReport dispatch(const P& problem, const Scene& scene, const RunOptions& options, MethodList<Ms...>) {
+  RunReport report;
+  const bool found = ((Ms<P>::traits.name == scene.method->traits.name
+                           ? (report = run_with<Ms>(problem, scene, options), true)
+                           : false) ||
+                      ...);
+  if (!found) throw std::logic_error("lgi: method registry out of sync");
+  return report;
+}
+
+std::string relative(double initial, double final) {
+  const double scale = std::abs(initial) > 0 ? std::abs(initial) : 1.0;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3e", std::abs(final - initial) / scale);
+  return buf;
+}
+
+}  // namespace
+
+RunReport run_scene(const Scene& scene, const RunOptions& options) {
+  return std::visit([&](const auto& p) { return dispatch(p, scene, options, Methods{}); }, scene.problem);
+}
+
+std::string csv_header(const Scene& scene) {
+  return std::visit([](const auto& p) { return header_for<std::decay_t<decltype(p)>>(); }, scene.problem);
+}
+
+std::string brief_report(const Scene& scene, const RunReport& r) {
+  const MethodTraits& m = scene.method->traits;
+  const std::string problem = std::visit([](const auto& p) { return std::string(p.name); }, scene.problem);
+  char buf[512];
+  std::string s;
+  std::snprintf(buf, sizeof buf, "%s: %s, %s (order %d%s%s), dt = %s\n", scene.file.c_str(), problem.c_str(),
+                std::string(m.name).c_str(), m.order, m.symplectic ? ", symplectic" : "",
+                m.exact_on_group ? ", on SO(3)" : "", format_number(scene.dt).c_str());
+  s += buf;
+  std::snprintf(buf, sizeof buf, "  steps            %lld to t = %s", static_cast<long long>(r.summary.steps),
+                format_number(r.summary.t).c_str());
+  s += buf;
+  if (r.newton_iterations >= 0 && r.summary.steps > 0)
+    std::snprintf(buf, sizeof buf, " (%.2f Newton iterations per step)\n",
+                  static_cast<double>(r.newton_iterations) / static_cast<double>(r.summary.steps));
+  else
+    std::snprintf(buf, sizeof buf, "\n");
+  s += buf;
+  s += "  energy error     " + relative(r.energy_initial, r.energy_final) + " (relative)\n";
+  for (const auto& inv : r.invariants)
+    s += "  " + inv.name + std::string(inv.name.size() < 16 ? 16 - inv.name.size() : 1, ' ') + " " +
+         relative(inv.initial, inv.final) + " (relative change)\n";
+  std::snprintf(buf, sizeof buf, "  orthogonality    %.3e (|R^T R - I|)\n  wall time        %.3f s (%.1f ns/step)\n",
+                so3::orthogonality_error(r.final_state.R), r.wall_seconds,
+                r.summary.steps > 0 ? 1e9 * r.wall_seconds / static_cast<double>(r.summary.steps) : 0.0);
+  s += buf;
+  return s;
+}
+
+}  // namespace lgi::app

@@ -1,0 +1,45 @@
+// lgi/apps/scene.hpp — a scene file (shared/DESIGN.md §3), parsed and validated.
+//
+// load_scene checks everything before anything runs: every malformed scene ends in one InputError that
+// names the file, the JSON path and what is wrong. A Scene that loads is runnable.
+//
+// Decisions where DESIGN.md is silent (documented in README "Scene files"):
+//   - "description": an optional top-level string, ignored.
+//   - heavy_top: `inertia` and `b` are required; `k` and `z0` default to e3.
+//   - initial.R, k and z0 must be within 1e-9 of a rotation / unit vector; they are then projected
+//     exactly onto SO(3) / the unit sphere, so the run starts on the group to round-off.
+//   - Rows are written at t = 0, at each output time (or every N steps), and at t_end.
+//   - integrator.tolerance and integrator.max_iterations are accepted by implicit methods only.
+#pragma once
+
+#include "json_reader.hpp"
+#include "registry.hpp"
+
+#include <lgi/core/integrator.hpp>
+#include <lgi/core/state.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lgi::app {
+
+struct Scene {
+  std::string file;
+  AnyProblem problem;
+  State<double> initial;
+  const MethodInfo* method = nullptr;
+  double dt = 0;
+  StepperOptions options;
+  double t_end = 0;
+  std::vector<double> output_times;  // when non-empty: write at these times (and 0, t_end)
+  std::int64_t output_every = 0;     // when > 0: write every N steps (and 0, t_end)
+};
+
+// The largest number of steps a scene may ask for (t_end / dt).
+inline constexpr double max_scene_steps = 1e13;
+
+Scene load_scene(const std::string& file);
+Scene parse_scene(const json& document, const std::string& file);
+
+}  // namespace lgi::app

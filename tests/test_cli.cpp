@@ -1,0 +1,333 @@
+// The `lgi` command, run as a separate process: every malformed scene gets one message on stderr that
+// names the file and JSON path, exit status 1, and no output file; valid scenes write the CSV of the
+// contract (shared/DESIGN.md §3); a failing integration exits 2 and leaves no file.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int status;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("lgi_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+
+  Result lgi(const std::string& args) {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd = std::string(LGI_EXE) + " " + args + " > " + out.string() + " 2> " + err.string();
+    const int raw = std::system(cmd.c_str());
+    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+  }
+
+  fs::path dir_;
+};
+
+// A valid heavy-top scene; designated initialisers replace one piece at a time.
+struct SceneText {
+  std::string problem =
+      R"("problem": {"type": "heavy_top", "inertia": [[2, 0, 0], [0, 2, 0], [0, 0, 1]], "b": 1.0, "k": [0, 0, 1], "z0": [0, 0, 1]})";
+  std::string initial = R"("initial": {"R": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], "omega": [0.1, 0.2, 5.0]})";
+  std::string integrator = R"("integrator": {"method": "lgvi", "dt": 0.001})";
+  std::string rest = R"("t_end": 1.0, "output": {"times": [0.5, 1]})";
+  operator std::string() const {
+    return "{\n  " + problem + ",\n  " + initial + ",\n  " + integrator + ",\n  " + rest + "\n}\n";
+  }
+};
+
+std::string heavy(const std::string& fields) { return R"("problem": {"type": "heavy_top", )" + fields + "}"; }
+const std::string kI = R"("inertia": [2, 2, 1])";
+
+struct BadScene {
+  const char* name;
+  std::string text;
+  std::string path;     // the JSON pointer the message must name
+  std::string message;  // and a phrase it must contain
+};
+
+std::vector<BadScene> bad_scenes() {
+  return {
+      {"invalid_json", "{\n  \"problem\": {\"type\": \"heavy_top\",,\n}", ":2:", "invalid JSON"},
+      {"truncated_json", "{\"problem\": [1, 2", ":1:", "invalid JSON"},
+      {"empty_file", "", "", "empty"},
+      {"duplicate_key", std::string(SceneText{.problem = heavy(kI + R"(, "b": 1, "b": 2)")}), "/problem",
+       "duplicate key \"b\""},
+      {"top_not_object", "[1, 2, 3]", "/", "expected an object"},
+      {"missing_integrator",
+       "{" + std::string(SceneText{}).substr(1, std::string(SceneText{}).find("\"integrator\"") - 1) + R"("t_end": 1})",
+       "/", "missing key \"integrator\""},
+      {"missing_dt", std::string(SceneText{.integrator = R"("integrator": {"method": "lgvi"})"}), "/integrator",
+       "missing key \"dt\""},
+      {"missing_omega", std::string(SceneText{.initial = R"("initial": {})"}), "/initial", "missing key \"omega\""},
+      {"missing_inertia", std::string(SceneText{.problem = heavy(R"("b": 1)")}), "/problem", "missing key \"inertia\""},
+      {"missing_b", std::string(SceneText{.problem = heavy(kI)}), "/problem", "missing key \"b\""},
+      {"unknown_top_key", std::string(SceneText{.rest = R"("t_end": 1, "speed": 2)"}), "/speed", "unknown key"},
+      {"unknown_problem_key", std::string(SceneText{.problem = heavy(kI + R"(, "b": 1, "mass": 2)")}), "/problem/mass",
+       "unknown key for heavy_top"},
+      {"free_body_has_no_b",
+       std::string(SceneText{.problem = R"("problem": {"type": "free_body", "inertia": [1, 2, 2], "b": 1})"}),
+       "/problem/b", "unknown key for free_body"},
+      {"unknown_problem", std::string(SceneText{.problem = R"("problem": {"type": "spinning_plate"})"}),
+       "/problem/type", "unknown problem type \"spinning_plate\" (known: free_body, heavy_top)"},
+      {"dt_string", std::string(SceneText{.integrator = R"("integrator": {"method": "lgvi", "dt": "fast"})"}),
+       "/integrator/dt", "expected a number, got a string (\"fast\")"},
+      {"b_bool", std::string(SceneText{.problem = heavy(kI + R"(, "b": true)")}), "/problem/b",
+       "expected a number, got true"},
+      {"method_number", std::string(SceneText{.integrator = R"("integrator": {"method": 4, "dt": 0.1})"}),
+       "/integrator/method", "expected a string"},
+      {"b_overflow", std::string(SceneText{.problem = heavy(kI + R"(, "b": 1e400)")}), "/problem/b",
+       "out of the range of a double"},
+      {"omega_overflow", std::string(SceneText{.initial = R"("initial": {"omega": [0, -1e999, 0]})"}),
+       "/initial/omega/1", "out of the range of a double"},
+      {"omega_null", std::string(SceneText{.initial = R"("initial": {"omega": [0, null, 0]})"}), "/initial/omega/1",
+       "expected a number, got null"},
+      {"omega_length", std::string(SceneText{.initial = R"("initial": {"omega": [0, 1]})"}), "/initial/omega",
+       "expected an array of 3 numbers"},
+      {"inertia_not_symmetric",
+       std::string(SceneText{.problem = heavy(R"("inertia": [[2, 0.1, 0], [0.2, 2, 0], [0, 0, 1]], "b": 1)")}),
+       "/problem/inertia/0/1", "not symmetric"},
+      {"inertia_not_positive_definite",
+       std::string(SceneText{.problem = heavy(R"("inertia": [[1, 2, 0], [2, 1, 0], [0, 0, 1]], "b": 1)")}),
+       "/problem/inertia", "not positive definite"},
+      {"inertia_negative_diagonal", std::string(SceneText{.problem = heavy(R"("inertia": [1, -1, 1], "b": 1)")}),
+       "/problem/inertia", "not positive definite"},
+      {"inertia_triangle", std::string(SceneText{.problem = heavy(R"("inertia": [1, 1, 3], "b": 1)")}),
+       "/problem/inertia", "triangle inequality"},
+      {"inertia_shape", std::string(SceneText{.problem = heavy(R"("inertia": [[1, 0], [0, 1]], "b": 1)")}),
+       "/problem/inertia", "expected a 3x3 array"},
+      {"inertia_row", std::string(SceneText{.problem = heavy(R"("inertia": [[1, 0, 0], [0, 1], [0, 0, 1]], "b": 1)")}),
+       "/problem/inertia/1", "expected a row of 3 numbers"},
+      {"b_negative", std::string(SceneText{.problem = heavy(kI + R"(, "b": -1)")}), "/problem/b", "must be >= 0"},
+      {"k_not_unit", std::string(SceneText{.problem = heavy(kI + R"(, "b": 1, "k": [0, 0, 2])")}), "/problem/k",
+       "must be a unit vector"},
+      {"z0_not_unit", std::string(SceneText{.problem = heavy(kI + R"(, "b": 1, "z0": [0.1, 0, 1])")}), "/problem/z0",
+       "must be a unit vector"},
+      {"z0_zero", std::string(SceneText{.problem = heavy(kI + R"(, "b": 1, "z0": [0, 0, 0])")}), "/problem/z0",
+       "must be a unit vector"},
+      {"R_not_rotation",
+       std::string(
+           SceneText{.initial = R"("initial": {"R": [[1, 0, 0], [0, 1, 0.1], [0, 0, 1]], "omega": [0, 0, 1]})"}),
+       "/initial/R", "must be a rotation matrix"},
+      {"R_reflection",
+       std::string(SceneText{.initial = R"("initial": {"R": [[-1, 0, 0], [0, 1, 0], [0, 0, 1]], "omega": [0, 0, 1]})"}),
+       "/initial/R", "det R = -1"},
+      {"dt_zero", std::string(SceneText{.integrator = R"("integrator": {"method": "lgvi", "dt": 0})"}),
+       "/integrator/dt", "must be > 0"},
+      {"dt_negative", std::string(SceneText{.integrator = R"("integrator": {"method": "lgvi", "dt": -0.1})"}),
+       "/integrator/dt", "must be > 0"},
+      {"t_end_negative", std::string(SceneText{.rest = R"("t_end": -1)"}), "/t_end", "must be >= 0"},
+      {"too_many_steps", std::string(SceneText{.integrator = R"("integrator": {"method": "lgvi", "dt": 1e-300})"}),
+       "/integrator/dt", "steps, more than"},
+      {"time_after_end", std::string(SceneText{.rest = R"("t_end": 1, "output": {"times": [0.5, 2]})"}),
+       "/output/times/1", "outside [0, t_end = 1]"},
+      {"time_negative", std::string(SceneText{.rest = R"("t_end": 1, "output": {"times": [-0.5]})"}), "/output/times/0",
+       "outside"},
+      {"times_not_increasing", std::string(SceneText{.rest = R"("t_end": 1, "output": {"times": [0.5, 0.7, 0.6]})"}),
+       "/output/times/2", "must increase"},
+      {"times_repeated", std::string(SceneText{.rest = R"("t_end": 1, "output": {"times": [0.5, 0.5]})"}),
+       "/output/times/1", "must increase"},
+      {"times_and_every", std::string(SceneText{.rest = R"("t_end": 1, "output": {"times": [0.5], "every": 10})"}),
+       "/output", "either \"times\" or \"every\""},
+      {"unknown_method", std::string(SceneText{.integrator = R"("integrator": {"method": "rk45", "dt": 0.1})"}),
+       "/integrator/method", "unknown method \"rk45\" (known: lgvi, rkmk4, lie_euler)"},
+      {"every_huge", std::string(SceneText{.rest = R"("t_end": 1, "output": {"every": 1e300})"}), "/output/every",
+       "expected an integer"},
+      {"every_fraction", std::string(SceneText{.rest = R"("t_end": 1, "output": {"every": 2.7})"}), "/output/every",
+       "expected an integer"},
+      {"every_negative", std::string(SceneText{.rest = R"("t_end": 1, "output": {"every": -1})"}), "/output/every",
+       "expected an integer"},
+      {"max_iterations_fraction",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "lgvi", "dt": 0.1, "max_iterations": 2.7})"}),
+       "/integrator/max_iterations", "expected an integer"},
+      {"tolerance_for_explicit",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk4", "dt": 0.1, "tolerance": 1e-12})"}),
+       "/integrator/tolerance", "unknown key for explicit method rkmk4"},
+  };
+}
+
+TEST_F(Cli, EveryMalformedSceneGetsOneMessageNamingThePathAndNoOutput) {
+  for (const BadScene& bad : bad_scenes()) {
+    SCOPED_TRACE(bad.name);
+    const fs::path file = write(std::string(bad.name) + ".json", bad.text);
+    const fs::path out = dir_ / "out.csv";
+    const Result r = lgi("run " + file.string() + " -o " + out.string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(r.out, "");
+    EXPECT_FALSE(fs::exists(out));
+    // One line: "lgi: error: <file>: <path>: <message>" (or <file>:<line>:<col>: for syntax errors).
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("lgi: error: " + file.string(), 0), 0u) << r.err;
+    if (!bad.path.empty()) {
+      const std::string located = file.string() + (bad.path[0] == ':' ? "" : ": ") + bad.path;
+      EXPECT_NE(r.err.find(located), std::string::npos) << r.err;
+    }
+    EXPECT_NE(r.err.find(bad.message), std::string::npos) << r.err;
+    // Nothing left beside the output either (no temporary files).
+    for (const auto& entry : fs::directory_iterator(dir_))
+      EXPECT_EQ(
+          entry.path().extension() == ".csv" || entry.path().filename().string().find(".tmp-") != std::string::npos,
+          false)
+          << entry.path();
+  }
+}
+
+TEST_F(Cli, UnreadableFile) {
+  const Result r = lgi("run " + (dir_ / "missing.json").string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("missing.json: cannot read the file: No such file or directory"), std::string::npos) << r.err;
+  const Result d = lgi("run " + dir_.string());  // a directory
+  EXPECT_EQ(d.status, 1);
+  EXPECT_NE(d.err.find("cannot read the file"), std::string::npos) << d.err;
+}
+
+TEST_F(Cli, InvalidJsonNamesLineAndColumn) {
+  const fs::path file = write("syntax.json", "{\n  \"t_end\": 1,\n  \"problem\": [1 2]\n}\n");
+  const Result r = lgi("run " + file.string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find(file.string() + ":3:17: invalid JSON"), std::string::npos) << r.err;
+}
+
+// Parses the CSV on stdout into a header and rows of numbers.
+struct Csv {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  std::vector<std::vector<std::string>> text;
+  std::size_t column(const std::string& name) const {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  }
+};
+
+Csv parse_csv(const std::string& s) {
+  Csv csv;
+  std::istringstream in(s);
+  std::string line;
+  bool first = true;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    std::string cell;
+    while (std::getline(ls, cell, ',')) cells.push_back(cell);
+    if (first) {
+      csv.header = cells;
+      first = false;
+      continue;
+    }
+    std::vector<double> row;
+    for (const auto& c : cells) row.push_back(std::stod(c));
+    csv.rows.push_back(row);
+    csv.text.push_back(cells);
+  }
+  return csv;
+}
+
+TEST_F(Cli, CsvContract) {
+  const fs::path file =
+      write("ok.json", std::string(SceneText{.integrator = R"("integrator": {"method": "lgvi", "dt": 0.03})",
+                                             .rest = R"("t_end": 1.0, "output": {"times": [0.1, 0.5, 0.7]})"}));
+  const Result r = lgi("run " + file.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Csv csv = parse_csv(r.out);
+  for (const char* name : {"t", "R11", "R12", "R13", "R21", "R22", "R23", "R31", "R32", "R33", "omega1", "omega2",
+                           "omega3", "energy", "orthogonality_error", "momentum_k"})
+    EXPECT_LT(csv.column(name), csv.header.size()) << name;
+  ASSERT_EQ(csv.rows.size(), 5u);  // t = 0, the three times, t_end
+  const std::vector<std::string> t = {"0", "0.10000000000000001", "0.5", "0.69999999999999996", "1"};
+  for (std::size_t i = 0; i < t.size(); ++i) EXPECT_EQ(csv.text[i][csv.column("t")], t[i]);  // exactly the times asked
+  EXPECT_EQ(csv.text[0][csv.column("omega1")], "0.10000000000000001");                       // 17 significant digits
+  for (const auto& row : csv.rows) {
+    EXPECT_LT(row[csv.column("orthogonality_error")], 1e-14);
+    EXPECT_NEAR(row[csv.column("energy")], csv.rows[0][csv.column("energy")], 1e-3);
+  }
+  // The summary on stderr: method, steps, energy error, orthogonality, wall time.
+  for (const char* word : {"lgvi", "steps", "energy error", "orthogonality", "wall time"})
+    EXPECT_NE(r.err.find(word), std::string::npos) << word << " in " << r.err;
+
+  // -o writes the same bytes to a file; -q silences stderr.
+  const fs::path out = dir_ / "run.csv";
+  const Result q = lgi("run -q " + file.string() + " -o " + out.string());
+  ASSERT_EQ(q.status, 0);
+  EXPECT_EQ(q.out, "");
+  EXPECT_EQ(q.err, "");
+  EXPECT_EQ(slurp(out), r.out);
+}
+
+TEST_F(Cli, OutputEvery) {
+  const fs::path file =
+      write("every.json", std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk4", "dt": 0.01})",
+                                                .rest = R"("t_end": 1.005, "output": {"every": 25})"}));
+  const Result r = lgi("run -q " + file.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Csv csv = parse_csv(r.out);
+  ASSERT_EQ(csv.rows.size(), 6u);  // steps 0, 25, 50, 75, 100, then t_end = 1.005
+  EXPECT_DOUBLE_EQ(csv.rows[1][0], 0.25);
+  EXPECT_EQ(csv.text.back()[0], "1.0049999999999999");
+}
+
+TEST_F(Cli, FailedIntegrationExitsTwoAndLeavesNoFile) {
+  // h|Ω| = 1.5 about the symmetry axis: the LGVI's implicit equation has no solution.
+  const fs::path file =
+      write("fail.json", std::string(SceneText{.initial = R"("initial": {"omega": [0, 0, 150]})",
+                                               .integrator = R"("integrator": {"method": "lgvi", "dt": 0.01})"}));
+  const fs::path out = dir_ / "fail.csv";
+  const Result r = lgi("run " + file.string() + " -o " + out.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_NE(r.err.find("the step from t = 0 failed: Newton iteration did not converge"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("/integrator/dt"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, HelpListAndUsage) {
+  EXPECT_EQ(lgi("--help").status, 0);
+  const Result list = lgi("list");
+  EXPECT_EQ(list.status, 0);
+  for (const char* name : {"free_body", "heavy_top", "lgvi", "rkmk4", "lie_euler"})
+    EXPECT_NE(list.out.find(name), std::string::npos) << name;
+  EXPECT_EQ(lgi("frobnicate").status, 1);
+  EXPECT_EQ(lgi("run").status, 1);  // SCENE is required
+}
+
+// The example scenes shipped in scenes/ all run.
+TEST_F(Cli, ExampleScenesRun) {
+  for (const auto& entry : fs::directory_iterator(LGI_SCENES_DIR)) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const Result r = lgi("run -q " + entry.path().string() + " -o " + (dir_ / "example.csv").string());
+    EXPECT_EQ(r.status, 0) << r.err;
+  }
+}
+
+}  // namespace
