@@ -76,7 +76,7 @@ struct QuatRk4 {
     }
   }
 
-  Internal to_internal(const lgi::State<double>& x) const {
+  Internal to_internal(const lgi::State<double>& x, double /*t*/) const {
     const Eigen::Quaterniond q(x.R);
     return {Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()), x.Omega};
   }

@@ -22,7 +22,7 @@ namespace {
 template <class S, class P>
 void bm_steps(benchmark::State& st, const P& problem) {
   S stepper(problem);
-  const auto y0 = stepper.to_internal(bench::initial_state(problem));
+  const auto y0 = stepper.to_internal(bench::initial_state(problem), 0.0);
   auto y = y0;
   for (auto _ : st) {
     if (!bench::run_period(stepper, y0, y, bench::period_steps, [](auto& x) { benchmark::DoNotOptimize(x); })) {

@@ -23,11 +23,6 @@
 
 namespace {
 
-void print(const lgi::MomentumState<double>& y) {
-  std::printf("R = [%.17g %.17g %.17g; %.17g %.17g %.17g; %.17g %.17g %.17g]\nPi = [%.17g %.17g %.17g]\n",
-              y.R(0, 0), y.R(0, 1), y.R(0, 2), y.R(1, 0), y.R(1, 1), y.R(1, 2), y.R(2, 0), y.R(2, 1), y.R(2, 2),
-              y.Pi(0), y.Pi(1), y.Pi(2));
-}
 void print(const lgi::State<double>& y) {
   std::printf("R = [%.17g %.17g %.17g; %.17g %.17g %.17g; %.17g %.17g %.17g]\nOmega = [%.17g %.17g %.17g]\n",
               y.R(0, 0), y.R(0, 1), y.R(0, 2), y.R(1, 0), y.R(1, 1), y.R(1, 2), y.R(2, 0), y.R(2, 1), y.R(2, 2),
@@ -41,7 +36,7 @@ void print(const bench::QuatRk4::Internal& y) {
 template <class S, class P>
 int run(const P& problem, long nsteps) {
   S stepper(problem);
-  const auto y0 = stepper.to_internal(bench::initial_state(problem));
+  const auto y0 = stepper.to_internal(bench::initial_state(problem), 0.0);
   auto y = y0;
   for (long done = 0; done < nsteps; done += bench::period_steps) {
     const int n = static_cast<int>(std::min<long>(bench::period_steps, nsteps - done));
@@ -50,7 +45,10 @@ int run(const P& problem, long nsteps) {
       return 1;
     }
   }
-  print(y);
+  if constexpr (requires { stepper.to_state(y); })
+    print(stepper.to_state(y));
+  else
+    print(y);
   if constexpr (requires { stepper.newton_iterations(); })
     std::printf("newton_per_step = %.4f\n", static_cast<double>(stepper.newton_iterations()) / static_cast<double>(nsteps));
   return 0;

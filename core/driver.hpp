@@ -103,7 +103,7 @@ IntegrationSummary drive(S& stepper, State<typename S::Scalar>& x, const typenam
   IntegrationSummary summary;
   summary.t = static_cast<double>(value_of(t0));
   observe(t0, static_cast<const State<T>&>(x));
-  Internal y = stepper.to_internal(x);
+  Internal y = stepper.to_internal(x, t0);
   std::int64_t n = 0;
   const auto grid_time = [&] { return t0 + T(static_cast<double>(n)) * h; };
   detail::OutputEvent<T> event;

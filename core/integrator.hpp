@@ -6,7 +6,7 @@
 //   using Problem = P;  using Scalar = typename P::Scalar;
 //   using Internal = …;                                  // State<T> (R, Ω) or MomentumState<T> (R, Π), …
 //   static constexpr MethodTraits traits;
-//   Internal to_internal(const State<Scalar>&) const;    // at the start of a run
+//   Internal to_internal(const State<Scalar>&, const Scalar& t) const;   // at the start of a run
 //   State<Scalar> to_state(const Internal&) const;       // at output times only
 //   StepStatus step(Internal& y, const Scalar& t, const Scalar& h);
 //
@@ -66,7 +66,7 @@ concept Stepper = requires(S& s, const State<typename S::Scalar>& x, typename S:
   typename S::Internal;
   requires RigidBodyProblem<typename S::Problem>;
   { S::traits } -> std::convertible_to<MethodTraits>;
-  { s.to_internal(x) } -> std::same_as<typename S::Internal>;
+  { s.to_internal(x, t) } -> std::same_as<typename S::Internal>;
   { s.to_state(y) } -> std::same_as<State<typename S::Scalar>>;
   { s.step(y, t, t) } -> std::same_as<StepStatus>;
 };

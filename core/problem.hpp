@@ -52,6 +52,22 @@ Vec3<typename P::Scalar> body_torque(const P& p, const typename P::Scalar& t, co
     return p.torque(R);
 }
 
+// Optional: a torque that depends on the attitude only through Γ = Rᵀa, the image in the body frame of
+// one fixed laboratory axis a (gravity: a = k, the heavy top). Methods that move the attitude by
+// R·exp(u) inside a step then rotate Γ by exp(−u) (≈ 30 flops) instead of forming R·exp(u) (≈ 90):
+//   Vec3<T> reduced_axis() const;                        // a (laboratory frame)
+//   Vec3<T> reduced_torque(const Vec3<T>& Gamma) const;  // M, as a function of Γ = Rᵀa
+// torque(R) must equal reduced_torque(Rᵀ reduced_axis()). A problem with a time-dependent torque(t, R)
+// is never treated as reduced (reduced_torque has no time), even if it inherits the two functions.
+template <class P>
+concept ReducedAttitudeProblem =
+    RigidBodyProblem<P> &&
+    requires(const P& p, const Vec3<typename P::Scalar>& g) {
+      { p.reduced_axis() } -> std::convertible_to<Vec3<typename P::Scalar>>;
+      { p.reduced_torque(g) } -> std::convertible_to<Vec3<typename P::Scalar>>;
+    } &&
+    !requires(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) { p.torque(t, R); };
+
 // The problem type P re-instantiated on scalar S (e.g. HeavyTop<double> → HeavyTop<Jet>).
 template <class P, class S>
 using rebind_problem_t = decltype(std::declval<const P&>().template cast<S>());

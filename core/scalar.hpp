@@ -46,7 +46,9 @@ bool all_finite(const T& x) {
     return std::isfinite(x);
   } else if constexpr (requires { x.a; x.v; }) {
     return all_finite(x.a) && x.v.allFinite();
-  } else {  // a plain Eigen matrix or vector
+  } else if constexpr (std::is_arithmetic_v<typename T::Scalar>) {
+    return x.allFinite();  // vectorised (x − x == x − x)
+  } else {                 // a plain Eigen matrix or vector of Jets
     for (Eigen::Index i = 0; i < x.size(); ++i)
       if (!all_finite(x.data()[i])) return false;
     return true;

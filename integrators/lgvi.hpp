@@ -14,12 +14,16 @@
 //   G(c) = J c + c × (J c) − ½ (1 + c·c) μ = 0,           μ = h (Π_k + ½ h M_k),
 //
 // which in principal axes is Hairer's fixed point c_i = α w_i + ((I_j − I_k)/I_i) c_j c_k (HLW, GNI 2nd
-// ed., §VII.5.3, eq. (5.27)). We take the predictor c = J⁻¹(½αμ − c₀ × Jc₀) from c₀ = ½J⁻¹μ, then Newton,
-// dG = J + hat(c) J − hat(Jc) − μ cᵀ, until the update is below `tolerance`·|c| (or, from the quadratic
-// convergence bound |e⁺| ≤ K|Δ|², K = ‖J⁻¹‖(‖J‖ + |μ|), until K|Δ|² is), within `max_iterations` updates;
+// ed., §VII.5.3, eq. (5.27)). From c₀ = ½J⁻¹μ two sweeps of that fixed point, c ← J⁻¹(½αμ − c × Jc),
+// give the predictor (error O(|c|⁵)); then Newton, dG = J + hat(c) J − hat(Jc) − μ cᵀ (written out for a
+// diagonal J), until the update is below `tolerance`·|c| or, by the quadratic convergence bound
+// |e⁺| ≤ K|Δ|², K = ‖J⁻¹‖(‖J‖ + |μ|), the next one would be — one update at ordinary step sizes — within
+// `max_iterations` updates;
 // otherwise the step reports StepStatus::not_converged and leaves the state untouched. With a Jet scalar
 // one more Newton update follows convergence, so the derivative part is exact as well (implicit function
 // theorem). R_{k+1} is a product of rotations: orthogonal to round-off, never re-orthonormalised.
+// The method steps (R, Π) and keeps M_{k+1} for the next step's first kick: one torque per step, and
+// no J⁻¹ round trip (core/state.hpp).
 //
 // Order 2. Symplectic, symmetric (time-reversible), preserves the spatial momentum the torque leaves
 // alone (m for the free body, m·k for the heavy top) to round-off for any F, and the Casimirs; energy
@@ -35,6 +39,8 @@
 #include "../core/so3.hpp"
 #include "../core/state.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace lgi {
@@ -44,7 +50,12 @@ class Lgvi {
  public:
   using Problem = P;
   using Scalar = typename P::Scalar;
-  using Internal = MomentumState<Scalar>;  // (R, Π): no J⁻¹ round trip inside the run
+  // (R, Π) and the torque M(t, R) at the current attitude, the first kick of the next step.
+  struct Internal {
+    Mat3<Scalar> R;
+    Vec3<Scalar> Pi;
+    Vec3<Scalar> M;
+  };
 
   static constexpr MethodTraits traits{
       .name = "lgvi",
@@ -62,34 +73,41 @@ class Lgvi {
       : problem_(problem), J_(problem.inertia), options_(options) {
     const auto inf_norm = [](const Mat3<Scalar>& M) {
       double n = 0;
-      for (int r = 0; r < 3; ++r)
-        n = std::max(n, static_cast<double>(value_of(abs_(M(r, 0)) + abs_(M(r, 1)) + abs_(M(r, 2)))));
+      for (int r = 0; r < 3; ++r) {
+        double row = 0;
+        for (int c = 0; c < 3; ++c) row += std::abs(static_cast<double>(value_of(M(r, c))));
+        n = std::max(n, row);
+      }
       return n;
     };
     J_norm_ = inf_norm(J_.J);
     J_inv_norm_ = inf_norm(J_.J_inv);
+    const Vec3<Scalar> I = J_.J.diagonal();
+    d_ = Vec3<Scalar>(I(2) - I(1), I(0) - I(2), I(1) - I(0));
+    inv_I_ = J_.J_inv.diagonal();
   }
 
-  Internal to_internal(const State<Scalar>& x) const { return {x.R, J_.apply(x.Omega)}; }
+  Internal to_internal(const State<Scalar>& x, const Scalar& t) const {
+    return {x.R, J_.apply(x.Omega), torque(t, x.R)};
+  }
   State<Scalar> to_state(const Internal& y) const { return {y.R, J_.solve(y.Pi)}; }
 
-  StepStatus step(Internal& x, const Scalar& t, const Scalar& h) {
+  StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
     using T = Scalar;
     const T half_h = T(0.5) * h;
-    Vec3<T> Pi = x.Pi;
-    if constexpr (P::has_torque) Pi += half_h * body_torque(problem_, t, x.R);
+    Vec3<T> Pi = y.Pi;
+    if constexpr (P::has_torque) Pi += half_h * y.M;
     Vec3<T> c;
-    if (const StepStatus s = solve_cayley(h * Pi, c); s != StepStatus::ok) return s;
-
-    // F = I + s (hat(c) + hat(c)²), s = 2/(1 + c·c)
+    if (const StepStatus s = solve_cayley(Vec3<T>(h * Pi), c); s != StepStatus::ok) return s;
     const T s = T(2) / (T(1) + c.squaredNorm());
-    const Mat3<T> C = so3::hat(c);
-    Mat3<T> F = s * (C + C * C);
-    F.diagonal().array() += T(1);
-    const Mat3<T> R1 = x.R * F;
+    const Mat3<T> F = so3::rodrigues(c, s, s);  // I + s (hat(c) + hat(c)²)
+    const Mat3<T> R1 = y.R * F;
     Vec3<T> Pi1 = F.transpose() * Pi;
-    if constexpr (P::has_torque) Pi1 += half_h * body_torque(problem_, t + h, R1);
-    return commit(x, R1, Pi1);
+    const Vec3<T> M1 = torque(t + h, R1);
+    if constexpr (P::has_torque) Pi1 += half_h * M1;
+    if (!all_finite(R1) || !all_finite(Pi1)) return StepStatus::non_finite;
+    y = {R1, Pi1, M1};
+    return StepStatus::ok;
   }
 
   // Newton updates taken over the stepper's lifetime (a diagnostic: iterations per step).
@@ -97,26 +115,63 @@ class Lgvi {
   const P& problem() const { return problem_; }
 
  private:
-  template <class U>
-  static U abs_(const U& u) {
-    return value_of(u) < 0 ? U(-u) : u;
+  Vec3<Scalar> torque(const Scalar& t, const Mat3<Scalar>& R) const {
+    if constexpr (P::has_torque)
+      return body_torque(problem_, t, R);
+    else
+      return Vec3<Scalar>::Zero();
   }
 
-  // Solves G(c) = Jc + c × Jc − ½(1 + c·c) μ = 0 (see the header).
+  // One sweep of the fixed point c ← J⁻¹(½αμ − c × Jc), α = 1 + c·c.
+  Vec3<Scalar> sweep(const Vec3<Scalar>& c, const Vec3<Scalar>& half_mu) const {
+    using T = Scalar;
+    if (J_.diagonal) {  // Hairer's c_i = α w_i + r_i c_j c_k, w = J⁻¹ ½μ, r_i = −d_i/I_i
+      const T a = T(1) + c.squaredNorm();
+      return Vec3<T>((a * half_mu(0) - d_(0) * c(1) * c(2)) * inv_I_(0), (a * half_mu(1) - d_(1) * c(2) * c(0)) * inv_I_(1),
+                     (a * half_mu(2) - d_(2) * c(0) * c(1)) * inv_I_(2));
+    }
+    return J_.solve(Vec3<T>((T(1) + c.squaredNorm()) * half_mu - c.cross(J_.apply(c))));
+  }
+
+  // The Newton update Δ = dG⁻¹ G for G(c) = Jc + c × Jc − ½(1 + c·c) μ, dG = J + hat(c) J − hat(Jc) − μ cᵀ,
+  // solved by Cramer's rule. For diagonal J = diag(I), G_i = I_i c_i + d_i c_j c_k − ½αμ_i and dG is
+  // diag(I) plus off-diagonal entries d_i c_k ({i, j, k} = {0, 1, 2}), minus μ cᵀ, written out in scalars.
+  Vec3<Scalar> newton_update(const Vec3<Scalar>& c, const Vec3<Scalar>& half_mu) const {
+    using T = Scalar;
+    const T a = T(1) + c.squaredNorm();
+    const Vec3<T> mu = T(2) * half_mu;
+    Vec3<T> G;
+    Mat3<T> dG;
+    if (J_.diagonal) {
+      const T &c0 = c(0), &c1 = c(1), &c2 = c(2);
+      G << J_.J(0, 0) * c0 + d_(0) * c1 * c2 - a * half_mu(0),  //
+          J_.J(1, 1) * c1 + d_(1) * c2 * c0 - a * half_mu(1),    //
+          J_.J(2, 2) * c2 + d_(2) * c0 * c1 - a * half_mu(2);
+      dG << J_.J(0, 0) - mu(0) * c0, d_(0) * c2 - mu(0) * c1, d_(0) * c1 - mu(0) * c2,  //
+          d_(1) * c2 - mu(1) * c0, J_.J(1, 1) - mu(1) * c1, d_(1) * c0 - mu(1) * c2,    //
+          d_(2) * c1 - mu(2) * c0, d_(2) * c0 - mu(2) * c1, J_.J(2, 2) - mu(2) * c2;
+    } else {
+      const Vec3<T> Jc = J_.apply(c);
+      G = Jc + c.cross(Jc) - a * half_mu;
+      dG = J_.J + so3::hat(c) * J_.J - so3::hat(Jc) - mu * c.transpose();
+    }
+    const Vec3<T> r0 = dG.row(0), r1 = dG.row(1), r2 = dG.row(2);
+    const Vec3<T> c12 = r1.cross(r2), c20 = r2.cross(r0), c01 = r0.cross(r1);
+    return (G(0) * c12 + G(1) * c20 + G(2) * c01) / r0.dot(c12);
+  }
+
+  // Solves G(c) = 0 (see the header): two sweeps of the fixed point, then Newton.
   StepStatus solve_cayley(const Vec3<Scalar>& mu, Vec3<Scalar>& c) {
     using T = Scalar;
     const Vec3<T> half_mu = T(0.5) * mu;
     c = J_.solve(half_mu);
-    c = J_.solve((T(1) + c.squaredNorm()) * half_mu - c.cross(J_.apply(c)));
+    c = sweep(c, half_mu);
+    c = sweep(c, half_mu);
     const double K = J_inv_norm_ * (J_norm_ + static_cast<double>(value_of(mu.cwiseAbs().maxCoeff())));
     double last = 0;
     bool converged = false;
     for (int it = 0; it < options_.max_iterations; ++it) {
-      const Vec3<T> Jc = J_.apply(c);
-      const Vec3<T> G = Jc + c.cross(Jc) - (T(1) + c.squaredNorm()) * half_mu;
-      Mat3<T> dG = so3::hat(c) * J_.J - so3::hat(Jc) - mu * c.transpose();
-      dG += J_.J;
-      const Vec3<T> delta = dG.inverse() * G;
+      const Vec3<T> delta = newton_update(c, half_mu);
       c -= delta;
       ++iterations_;
       if (converged) return StepStatus::ok;  // the extra update for the derivative part (Jets)
@@ -136,6 +191,8 @@ class Lgvi {
   Inertia<Scalar> J_;
   StepperOptions options_;
   double J_norm_ = 0, J_inv_norm_ = 0;
+  Vec3<Scalar> d_;      // (I3 − I2, I1 − I3, I2 − I1) from J's diagonal
+  Vec3<Scalar> inv_I_;  // diagonal of J⁻¹ (used when J is diagonal)
   std::int64_t iterations_ = 0;
 };
 

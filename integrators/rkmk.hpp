@@ -14,7 +14,9 @@
 //
 // The truncation after the ad^(p−2) term keeps the order p of the tableau (HLW Theorem IV.8.5;
 // Munthe-Kaas, Appl. Numer. Math. 29 (1999) 115) and makes the stage map a polynomial. Zero tableau
-// entries are skipped at compile time; for a torque-free problem no stage attitude is formed at all.
+// entries are skipped at compile time; for a torque-free problem no stage attitude is formed at all, and
+// for a torque that depends on R only through Γ = Rᵀa (ReducedAttitudeProblem: the heavy top) the stages
+// rotate Γ_i = exp(u_i)ᵀ Γ_n instead of forming R_n exp(u_i).
 //
 // Order: that of the tableau. R stays on SO(3) to round-off (products of exponentials). Not symplectic,
 // not symmetric; energy and momentum drift like those of the underlying Runge–Kutta method.
@@ -53,14 +55,16 @@ class Rkmk {
 
   explicit Rkmk(const P& problem, const StepperOptions& = {}) : problem_(problem), J_(problem.inertia) {}
 
-  Internal to_internal(const State<Scalar>& x) const { return x; }
+  Internal to_internal(const State<Scalar>& x, const Scalar&) const { return x; }
   State<Scalar> to_state(const Internal& y) const { return y; }
 
   StepStatus step(Internal& x, const Scalar& t, const Scalar& h) {
     constexpr int S = Tableau.stages;
     std::array<Vec3<Scalar>, S> U, V;
+    Vec3<Scalar> Gamma;  // Rᵀa at the start of the step (reduced-attitude problems)
+    if constexpr (reduced) Gamma = x.R.transpose() * problem_.reduced_axis();
     [&]<int... I>(std::integer_sequence<int, I...>) {
-      (stage<I>(x, t, h, U, V), ...);
+      (stage<I>(x, Gamma, t, h, U, V), ...);
     }(std::make_integer_sequence<int, S>{});
     Vec3<Scalar> u = Vec3<Scalar>::Zero(), dOmega = Vec3<Scalar>::Zero();
     [&]<int... I>(std::integer_sequence<int, I...>) {
@@ -78,20 +82,27 @@ class Rkmk {
 
  private:
   static constexpr int series_degree = Tableau.order > 2 ? Tableau.order - 2 : 0;
+  static constexpr bool reduced = P::has_torque && ReducedAttitudeProblem<P>;
 
-  // Ω' = J⁻¹((JΩ) × Ω + M(t, R))
-  Vec3<Scalar> acceleration(const Scalar& t, const Mat3<Scalar>& R, const Vec3<Scalar>& Omega) const {
-    Vec3<Scalar> rhs = J_.apply(Omega).cross(Omega);
-    if constexpr (P::has_torque) rhs += body_torque(problem_, t, R);
-    return J_.solve(rhs);
+  // Ω' = J⁻¹((JΩ) × Ω + M)
+  Vec3<Scalar> acceleration(const Vec3<Scalar>& Omega, const Vec3<Scalar>& M) const {
+    return J_.solve(Vec3<Scalar>(J_.apply(Omega).cross(Omega) + M));
+  }
+  Vec3<Scalar> acceleration(const Vec3<Scalar>& Omega) const {
+    return J_.solve(Vec3<Scalar>(J_.apply(Omega).cross(Omega)));
   }
 
   template <int I>
-  void stage(const State<Scalar>& x, const Scalar& t, const Scalar& h, std::array<Vec3<Scalar>, Tableau.stages>& U,
-             std::array<Vec3<Scalar>, Tableau.stages>& V) const {
+  void stage(const State<Scalar>& x, const Vec3<Scalar>& Gamma, const Scalar& t, const Scalar& h,
+             std::array<Vec3<Scalar>, Tableau.stages>& U, std::array<Vec3<Scalar>, Tableau.stages>& V) const {
     if constexpr (I == 0) {
       U[0] = x.Omega;
-      V[0] = acceleration(t, x.R, x.Omega);
+      if constexpr (reduced)
+        V[0] = acceleration(x.Omega, problem_.reduced_torque(Gamma));
+      else if constexpr (P::has_torque)
+        V[0] = acceleration(x.Omega, body_torque(problem_, t, x.R));
+      else
+        V[0] = acceleration(x.Omega);
     } else {
       Vec3<Scalar> u = Vec3<Scalar>::Zero(), dW = Vec3<Scalar>::Zero();
       [&]<int... J>(std::integer_sequence<int, J...>) {
@@ -105,10 +116,15 @@ class Rkmk {
       u *= h;
       const Vec3<Scalar> W = x.Omega + h * dW;
       U[I] = so3::right_jacobian_inverse_series<series_degree>(u, W);
-      if constexpr (P::has_torque)
-        V[I] = acceleration(t + Scalar(Tableau.c[I]) * h, Mat3<Scalar>(x.R * so3::exp(u)), W);
-      else
-        V[I] = acceleration(t, x.R, W);
+      if constexpr (reduced) {
+        const so3::Coefficients<Scalar> k = so3::exp_coefficients(u);  // Γ_i = exp(u)ᵀ Γ = exp(−u) Γ
+        V[I] = acceleration(W, problem_.reduced_torque(so3::rotate(u, Scalar(-k.A), k.B, Gamma)));
+      } else if constexpr (P::has_torque) {
+        const Mat3<Scalar> R = x.R * so3::exp(u);
+        V[I] = acceleration(W, body_torque(problem_, t + Scalar(Tableau.c[I]) * h, R));
+      } else {
+        V[I] = acceleration(W);
+      }
     }
   }
 

@@ -33,10 +33,10 @@ struct HeavyTop {
   Vec3<T> z0 = Vec3<T>::UnitZ();
 
   T potential(const Mat3<T>& R) const { return b * k.dot(R * z0); }
-  Vec3<T> torque(const Mat3<T>& R) const {
-    const Vec3<T> Gamma = R.transpose() * k;
-    return b * Gamma.cross(z0);
-  }
+  Vec3<T> torque(const Mat3<T>& R) const { return reduced_torque(Vec3<T>(R.transpose() * k)); }
+  // The torque depends on R only through Γ = Rᵀk (core/problem.hpp, ReducedAttitudeProblem).
+  const Vec3<T>& reduced_axis() const { return k; }
+  Vec3<T> reduced_torque(const Vec3<T>& Gamma) const { return b * Gamma.cross(z0); }
 
   static constexpr std::array<std::string_view, 1> invariant_names{"momentum_k"};
   std::array<T, 1> invariants(const State<T>& x) const { return {k.dot(spatial_momentum(inertia, x))}; }

@@ -48,7 +48,7 @@ TEST(Driver, LandsExactlyOnOutputTimesWithoutPerturbingTheTrajectory) {
 
   // t = 0.73: seven grid steps, then one step of 0.73 − 0.7 from a copy.
   Lgvi<HeavyTop<double>> by_hand(problem);
-  auto y = by_hand.to_internal(x0);
+  auto y = by_hand.to_internal(x0, 0.0);
   for (int n = 0; n < 7; ++n) ASSERT_EQ(by_hand.step(y, n * h, h), StepStatus::ok);
   auto side = y;
   ASSERT_EQ(by_hand.step(side, 7 * h, 0.73 - 7 * h), StepStatus::ok);

@@ -74,7 +74,7 @@ TYPED_TEST(IntegratorTest, SteadyRotationIsExact) {
   const double h = 0.01;
   for (const Vec3<double>& Omega : {Vec3<double>(0, 0, 5.0), Vec3<double>(3.0, -4.0, 0), Vec3<double>(0.7, 0, 0)}) {
     S stepper(body);
-    auto y = stepper.to_internal({R0, Omega});
+    auto y = stepper.to_internal({R0, Omega}, 0.0);
     ASSERT_EQ(stepper.step(y, 0.0, h), StepStatus::ok);
     const State<double> x1 = stepper.to_state(y);
     const double w = Omega.norm();
@@ -135,7 +135,7 @@ TEST(Lgvi, NewtonFailureIsAStatusAndLeavesTheStateUntouched) {
   FreeBody<double> body{Vec3<double>(2.0, 2.0, 1.0).asDiagonal()};
   Lgvi<FreeBody<double>> stepper(body);
   const State<double> x0{so3::exp(Vec3<double>(0.1, 0.2, 0.3)), Vec3<double>(0, 0, 150.0)};
-  auto y = stepper.to_internal(x0);
+  auto y = stepper.to_internal(x0, 0.0);
   const auto before = y;
   EXPECT_EQ(stepper.step(y, 0.0, 0.01), StepStatus::not_converged);  // h|Ω| = 1.5
   EXPECT_EQ(y.R, before.R);
@@ -150,7 +150,7 @@ TEST(Lgvi, IterationLimitIsHonoured) {
   const State<double> x0 = test::skew_initial_state();
   Lgvi<HeavyTop<double>> one(problem, StepperOptions{.tolerance = 1e-14, .max_iterations = 1});
   Lgvi<HeavyTop<double>> many(problem);
-  auto y1 = one.to_internal(x0), y2 = many.to_internal(x0);
+  auto y1 = one.to_internal(x0, 0.0), y2 = many.to_internal(x0, 0.0);
   EXPECT_EQ(one.step(y1, 0.0, 0.5), StepStatus::not_converged);
   EXPECT_EQ(many.step(y2, 0.0, 0.5), StepStatus::ok);
   EXPECT_LE(many.newton_iterations(), 6);

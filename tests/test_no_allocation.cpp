@@ -65,7 +65,7 @@ namespace {
 template <template <class> class Method, class P>
 void expect_no_allocation(const P& problem, const State<double>& x0) {
   Method<P> stepper(problem);
-  auto y = stepper.to_internal(x0);
+  auto y = stepper.to_internal(x0, 0.0);
   std::vector<double> sampled;  // observer storage, reserved before the loop
   sampled.reserve(64);
   auto observe = [&](double t, const State<double>&) { sampled.push_back(t); };
