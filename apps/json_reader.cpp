@@ -93,6 +93,7 @@ class TrackingSax {
   bool binary(binary_t& b) { return value(dom_.binary(b)); }
 
   bool start_object(std::size_t n) {
+    if (too_deep()) return false;
     frames_.push_back({true, {}, 0, {}});
     return dom_.start_object(n);
   }
@@ -112,6 +113,7 @@ class TrackingSax {
     return value(dom_.end_object());
   }
   bool start_array(std::size_t n) {
+    if (too_deep()) return false;
     frames_.push_back({false, {}, 0, {}});
     return dom_.start_array(n);
   }
@@ -149,6 +151,14 @@ class TrackingSax {
     std::size_t index;
     std::set<std::string> keys;
   };
+
+  bool too_deep() {
+    if (frames_.size() < max_json_depth) return false;
+    error_ = "nesting deeper than " + std::to_string(max_json_depth) + " levels";
+    error_pointer_ = pointer();
+    located_ = true;
+    return true;
+  }
 
   // After a complete value: the enclosing array moves on to its next element.
   bool value(bool ok) {

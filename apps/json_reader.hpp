@@ -3,7 +3,8 @@
 // Every error is an InputError whose message reads "<file>: <JSON pointer>: <what is wrong>" (or
 // "<file>:<line>:<column>: ..." for syntax errors), thrown before any output is produced. The parser
 // rejects duplicate keys (nlohmann accepts them silently), reports numbers that overflow a double with
-// their path and position, and refuses files larger than `max_input_bytes`. Numbers are read as doubles
+// their path and position, and refuses files larger than `max_input_bytes` or nested deeper than
+// `max_json_depth`. Numbers are read as doubles
 // and range-checked, integers included (a JSON 1e300 or 2.7 is never cast to an integer).
 #pragma once
 
@@ -30,6 +31,7 @@ class InputError : public std::runtime_error {
 };
 
 inline constexpr std::size_t max_input_bytes = 64u << 20;
+inline constexpr std::size_t max_json_depth = 64;
 
 // Parses `text` (the contents of `file`) with duplicate-key detection and positioned errors.
 json parse_json(const std::string& text, const std::string& file);

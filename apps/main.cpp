@@ -5,16 +5,19 @@
 //
 // Exit status: 0 success; 1 bad command line or scene (one message naming the file, JSON path and
 // problem; nothing written); 2 the integration failed (a step's status, with the time and the last good
-// state reported; no output file is left); 3 the output could not be written.
+// state reported; no output file is left); 3 the output could not be written; 4 internal error;
+// 128 + signal when interrupted by SIGINT or SIGTERM (no output file is left).
 #include "registry.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
 
 #include <CLI/CLI.hpp>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -27,6 +30,20 @@ namespace {
 constexpr int exit_bad_input = 1;
 constexpr int exit_run_failed = 2;
 constexpr int exit_io_error = 3;
+constexpr int exit_internal_error = 4;
+
+volatile std::sig_atomic_t g_signal = 0;
+extern "C" void on_signal(int signal) { g_signal = signal; }
+
+// SIGINT and SIGTERM stop the run at the next monitor call (every 1024 steps) instead of killing the
+// process, so that the temporary output file is removed.
+void catch_interrupts() {
+  struct sigaction action {};
+  action.sa_handler = on_signal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
 
 int fail(int status, const std::string& message) {
   std::fprintf(stderr, "lgi: error: %s\n", message.c_str());
@@ -39,10 +56,16 @@ class AtomicOutput {
  public:
   explicit AtomicOutput(const std::string& target) : target_(target) {
     const std::filesystem::path p(target);
+    std::error_code ec;
+    if (std::filesystem::is_directory(p, ec) || (!target.empty() && target.back() == '/'))
+      throw std::runtime_error(target + ": cannot write the output file: it is a directory");
     temp_ = (p.has_parent_path() ? p.parent_path() / "" : std::filesystem::path()).string() + "." +
             p.filename().string() + ".tmp-XXXXXX";
     const int fd = mkstemp(temp_.data());
     if (fd < 0) throw std::runtime_error(target + ": cannot create the output file: " + std::strerror(errno));
+    const mode_t mask = umask(0);  // mkstemp makes 0600; give the file the mode a plain create would
+    umask(mask);
+    fchmod(fd, 0666 & ~mask);
     file_ = fdopen(fd, "w");
     if (!file_) throw std::runtime_error(target + ": cannot open the output file: " + std::strerror(errno));
     static char buffer[1 << 16];
@@ -57,7 +80,7 @@ class AtomicOutput {
   std::FILE* file() const { return file_; }
   // Closes and renames into place; false (with errno) on failure.
   bool commit() {
-    const bool ok = std::fflush(file_) == 0 && std::ferror(file_) == 0;
+    const bool ok = std::fflush(file_) == 0 && std::ferror(file_) == 0 && fsync(fileno(file_)) == 0;
     const bool closed = std::fclose(file_) == 0;
     file_ = nullptr;
     if (!ok || !closed) return false;
@@ -90,7 +113,15 @@ int run_command(const std::string& scene_file, const std::string& output, bool q
   lgi::app::RunOptions options;
   options.csv = out ? out->file() : stdout;
   options.progress = !quiet && isatty(STDERR_FILENO);
+  options.stop = &g_signal;
+  catch_interrupts();
   const lgi::app::RunReport report = lgi::app::run_scene(scene, options);
+  if (g_signal != 0) {
+    const int signal = g_signal;
+    return fail(128 + signal, scene_file + ": interrupted by " + (signal == SIGINT ? "SIGINT" : "SIGTERM") +
+                                  " at t = " + lgi::app::format_number(report.summary.t) +
+                                  (out ? "; no output file written" : ""));
+  }
 
   if (report.summary.status != lgi::RunStatus::completed) {
     const lgi::State<double>& x = report.final_state;
@@ -177,7 +208,7 @@ int main(int argc, char** argv) {
     if (run->parsed()) return run_command(scene_file, output, quiet);
     if (list->parsed()) return list_command(markdown);
   } catch (const std::exception& e) {
-    return fail(exit_io_error, e.what());
+    return fail(exit_internal_error, std::string("internal error: ") + e.what());
   }
   return 0;
 }

@@ -23,7 +23,7 @@ Mat3<double> read_inertia(const Node& node) {
       node.at(static_cast<std::size_t>(row)).at(static_cast<std::size_t>(col)).fail(*defect);
     node.fail(*defect);
   }
-  return J;
+  return 0.5 * (J + J.transpose());  // symmetric to the last bit (accepted within 1e-12)
 }
 
 // A unit vector, within 1e-9; returned normalised exactly.

@@ -50,13 +50,16 @@ std::string header_for() {
   return h;
 }
 
-// Progress on stderr: at most four times a second, only once a run has taken more than a second.
+// The monitor: stops the run when asked (signals), and shows progress on stderr at most four times a
+// second once a run has taken more than a second.
 struct Progress {
   bool enabled;
   std::int64_t total;
+  const volatile std::sig_atomic_t* stop;
   Clock::time_point start = Clock::now(), last = start;
   bool printed = false;
   bool operator()(std::int64_t steps) {
+    if (stop && *stop != 0) return false;
     if (!enabled) return true;
     const auto now = Clock::now();
     if (now - start < std::chrono::seconds(1) || now - last < std::chrono::milliseconds(250)) return true;
@@ -93,7 +96,7 @@ RunReport run_with(const P& problem, const Scene& scene, const RunOptions& optio
     for (const double v : problem.invariants(x)) row.add(v);
     row.end_row();
   };
-  Progress progress{options.progress, report.expected_steps};
+  Progress progress{options.progress, report.expected_steps, options.stop};
 
   State<double> x = scene.initial;
   report.energy_initial = energy(problem, x);

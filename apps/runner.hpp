@@ -10,6 +10,7 @@
 
 #include <lgi/core/driver.hpp>
 
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <string>
@@ -18,8 +19,9 @@
 namespace lgi::app {
 
 struct RunOptions {
-  std::FILE* csv = nullptr;  // rows go here; nullptr: no rows
-  bool progress = false;     // a progress line on stderr (for terminals)
+  std::FILE* csv = nullptr;                         // rows go here; nullptr: no rows
+  bool progress = false;                            // a progress line on stderr (for terminals)
+  const volatile std::sig_atomic_t* stop = nullptr;  // the run stops when *stop becomes non-zero
 };
 
 struct InvariantChange {

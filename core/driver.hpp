@@ -4,7 +4,7 @@
 // output time that falls between grid points t_m < t_out < t_m+1 is reached by one extra step of size
 // t_out − t_m taken from a copy of the state: the main trajectory stays on the grid, so the states at
 // grid points do not depend on which output times were asked for, and a symplectic method keeps a
-// constant step. Output times within a relative 1e-12 of a grid point count as on the grid.
+// constant step. Output times within 16 ulps of a grid point (relative to (t − t0)/h) are on the grid.
 //
 // The step loop allocates nothing and does nothing but step: observers run only at output times, the
 // monitor (progress, budgets, interruption) only every `monitor_stride` steps, and `NoMonitor` compiles
@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <stdexcept>
 #include <type_traits>
@@ -57,7 +58,9 @@ template <class T>
 GridPoint locate(const T& t0, const T& h, const T& t) {
   const double q = static_cast<double>(value_of((t - t0) / h));
   const double r = std::round(q);
-  if (std::abs(q - r) <= 1e-12 * std::max(1.0, std::abs(q))) return {static_cast<std::int64_t>(r), true};
+  // (t − t0)/h carries a few ulps of rounding; within 16 ulps of an integer, t is that grid point.
+  if (std::abs(q - r) <= 16 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(q)))
+    return {static_cast<std::int64_t>(r), true};
   return {static_cast<std::int64_t>(std::floor(q)), false};
 }
 
@@ -104,6 +107,7 @@ IntegrationSummary drive(S& stepper, State<typename S::Scalar>& x, const typenam
   summary.t = static_cast<double>(value_of(t0));
   observe(t0, static_cast<const State<T>&>(x));
   Internal y = stepper.to_internal(x, t0);
+  bool moved = false;  // x is returned as given unless a step succeeded (no J⁻¹(Jx) round trip)
   std::int64_t n = 0;
   const auto grid_time = [&] { return t0 + T(static_cast<double>(n)) * h; };
   detail::OutputEvent<T> event;
@@ -111,13 +115,14 @@ IntegrationSummary drive(S& stepper, State<typename S::Scalar>& x, const typenam
   while (more) {
     detail::OutputEvent<T> following;
     more = next(following);
+    const std::int64_t before = summary.steps;
     const bool ok = advance(stepper, y, t0, h, n, event.at.m, summary, monitor);
+    moved = moved || summary.steps > before;
     summary.t = static_cast<double>(value_of(grid_time()));
     if (!ok) break;
     if (event.at.on_grid) {
-      x = stepper.to_state(y);
       summary.t = static_cast<double>(value_of(event.t));
-      observe(event.t, static_cast<const State<T>&>(x));
+      observe(event.t, moved ? stepper.to_state(y) : x);
     } else {
       Internal side = y;
       Internal& z = more ? side : y;  // the final side-step moves the trajectory itself
@@ -128,13 +133,15 @@ IntegrationSummary drive(S& stepper, State<typename S::Scalar>& x, const typenam
         break;
       }
       ++summary.steps;
-      if (!more) summary.t = static_cast<double>(value_of(event.t));
-      x = stepper.to_state(z);
-      observe(event.t, static_cast<const State<T>&>(x));
+      if (!more) {
+        summary.t = static_cast<double>(value_of(event.t));
+        moved = true;
+      }
+      observe(event.t, stepper.to_state(z));
     }
     event = following;
   }
-  x = stepper.to_state(y);
+  if (moved) x = stepper.to_state(y);
   return summary;
 }
 
@@ -191,6 +198,7 @@ template <Stepper S, class Observer = NoObserver, class Monitor = NoMonitor>
 IntegrationSummary integrate_to(S& stepper, State<typename S::Scalar>& x, const typename S::Scalar& t0,
                                 const typename S::Scalar& h, const typename S::Scalar& t_end,
                                 Observer&& observe = {}, Monitor&& monitor = {}) {
+  if (!(value_of(t_end) >= value_of(t0))) throw std::invalid_argument("lgi::integrate_to: t_end < t0");
   const typename S::Scalar times[] = {t_end};
   return integrate_times(stepper, x, t0, h, std::span<const typename S::Scalar>(times, value_of(t_end) > value_of(t0) ? 1 : 0),
                          observe, monitor);

@@ -36,15 +36,18 @@ struct Inertia {
     return J_inv * v;
   }
 
+  // Off-diagonal entries exactly zero — derivative parts too: a Jet that carries ∂/∂J01 must take the
+  // full-matrix path even when J01's value is 0, or that derivative would be dropped.
   static bool is_diagonal(const Mat3<T>& M) {
-    return value_of(M(0, 1)) == 0 && value_of(M(0, 2)) == 0 && value_of(M(1, 2)) == 0 &&
-           value_of(M(1, 0)) == 0 && value_of(M(2, 0)) == 0 && value_of(M(2, 1)) == 0;
+    return is_exact_zero(M(0, 1)) && is_exact_zero(M(0, 2)) && is_exact_zero(M(1, 2)) && is_exact_zero(M(1, 0)) &&
+           is_exact_zero(M(2, 0)) && is_exact_zero(M(2, 1));
   }
 };
 
 // Why M is not a physical inertia tensor, or nothing when it is. Checks, in this order: finite entries,
 // symmetry (|M_ij − M_ji| ≤ 1e-12 max|M|), positive definiteness (smallest eigenvalue > 1e-14 max|M|),
-// and the triangle inequalities of the principal moments (to a relative 1e-12). `where` receives the
+// the triangle inequalities of the principal moments (to a relative 1e-12), and a scale whose inverse
+// is representable (principal moments in [1e-150, 1e150]). `where` receives the
 // (row, column) of the offending entry for the first two checks, (−1, −1) otherwise.
 namespace detail {
 inline std::string number(double x) {
@@ -79,12 +82,15 @@ inline std::optional<std::string> inertia_defect(const Mat3<double>& M, int* row
   const Mat3<double> S = 0.5 * (M + M.transpose());
   const Eigen::SelfAdjointEigenSolver<Mat3<double>> eig(S, Eigen::EigenvaluesOnly);
   const Vec3<double> l = eig.eigenvalues();  // ascending
-  if (!(l(0) > 1e-14 * scale))
+  if (!(l(0) > 1e-14 * scale) || !std::isfinite(l(0)))
     return "inertia tensor is not positive definite (principal moments " + detail::number(l(0)) + ", " +
            detail::number(l(1)) + ", " + detail::number(l(2)) + ")";
   if (l(2) > (l(0) + l(1)) * (1 + 1e-12))
     return "principal moments " + detail::number(l(0)) + ", " + detail::number(l(1)) + ", " +
            detail::number(l(2)) + " violate the triangle inequality I3 <= I1 + I2 (no rigid body has them)";
+  if (!M.inverse().allFinite() || !(1e-150 < l(0) && l(2) < 1e150))
+    return "inertia tensor's scale (principal moments " + detail::number(l(0)) + " .. " + detail::number(l(2)) +
+           ") is outside [1e-150, 1e150]: its inverse is not representable; change the units";
   return std::nullopt;
 }
 

@@ -20,6 +20,7 @@
 
 #include <concepts>
 #include <cstdint>
+#include <stdexcept>
 #include <string_view>
 
 namespace lgi {
@@ -56,6 +57,13 @@ constexpr std::string_view to_string(StepStatus s) {
 struct StepperOptions {
   double tolerance = 1e-14;  // Newton: stop when the update is below tolerance · |solution|
   int max_iterations = 20;   // Newton: give up (StepStatus::not_converged) after this many updates
+
+  // Throws std::invalid_argument unless 0 < tolerance < 1e-2 and max_iterations ≥ 1.
+  void check() const {
+    if (!(tolerance > 0 && tolerance < 1e-2))
+      throw std::invalid_argument("lgi::StepperOptions: tolerance must be in (0, 0.01)");
+    if (max_iterations < 1) throw std::invalid_argument("lgi::StepperOptions: max_iterations must be >= 1");
+  }
 };
 
 template <class S>

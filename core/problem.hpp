@@ -43,15 +43,6 @@ concept RigidBodyProblem =
       { p.invariants(x) } -> std::convertible_to<std::array<typename P::Scalar, P::invariant_names.size()>>;
     };
 
-// Body-frame torque at time t, for time-dependent and autonomous problems alike.
-template <RigidBodyProblem P>
-Vec3<typename P::Scalar> body_torque(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) {
-  if constexpr (requires { p.torque(t, R); })
-    return p.torque(t, R);
-  else
-    return p.torque(R);
-}
-
 // Optional: a torque that depends on the attitude only through Γ = Rᵀa, the image in the body frame of
 // one fixed laboratory axis a (gravity: a = k, the heavy top). Methods that move the attitude by
 // R·exp(u) inside a step then rotate Γ by exp(−u) (≈ 30 flops) instead of forming R·exp(u) (≈ 90):
@@ -67,6 +58,19 @@ concept ReducedAttitudeProblem =
       { p.reduced_torque(g) } -> std::convertible_to<Vec3<typename P::Scalar>>;
     } &&
     !requires(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) { p.torque(t, R); };
+
+// Body-frame torque at time t: the one place integrators get a torque from, so that every method sees
+// the same function — torque(t, R) for time-dependent problems, reduced_torque(Rᵀa) for reduced-attitude
+// ones (a derived problem that changes the torque must override reduced_torque), torque(R) otherwise.
+template <RigidBodyProblem P>
+Vec3<typename P::Scalar> body_torque(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) {
+  if constexpr (requires { p.torque(t, R); })
+    return p.torque(t, R);
+  else if constexpr (ReducedAttitudeProblem<P>)
+    return p.reduced_torque(Vec3<typename P::Scalar>(R.transpose() * p.reduced_axis()));
+  else
+    return p.torque(R);
+}
 
 // The problem type P re-instantiated on scalar S (e.g. HeavyTop<double> → HeavyTop<Jet>).
 template <class P, class S>

@@ -19,9 +19,10 @@
 // diagonal J), until the update is below `tolerance`·|c| or, by the quadratic convergence bound
 // |e⁺| ≤ K|Δ|², K = ‖J⁻¹‖(‖J‖ + |μ|), the next one would be — one update at ordinary step sizes — within
 // `max_iterations` updates;
-// otherwise the step reports StepStatus::not_converged and leaves the state untouched. With a Jet scalar
-// one more Newton update follows convergence, so the derivative part is exact as well (implicit function
-// theorem). R_{k+1} is a product of rotations: orthogonal to round-off, never re-orthonormalised.
+// otherwise the step reports StepStatus::not_converged and leaves the state untouched. Updates below
+// 16 cond(J) ε |c| count as converged: round-off allows no better. With a Jet scalar one more Newton
+// update follows convergence (not counted against the limit), so the derivative part is exact as well
+// (implicit function theorem). R_{k+1} is a product of rotations: orthogonal to round-off, never re-orthonormalised.
 // The method steps (R, Π) and keeps M_{k+1} for the next step's first kick: one torque per step, and
 // no J⁻¹ round trip (core/state.hpp).
 //
@@ -71,6 +72,7 @@ class Lgvi {
 
   explicit Lgvi(const P& problem, const StepperOptions& options = {})
       : problem_(problem), J_(problem.inertia), options_(options) {
+    options.check();
     const auto inf_norm = [](const Mat3<Scalar>& M) {
       double n = 0;
       for (int r = 0; r < 3; ++r) {
@@ -92,7 +94,7 @@ class Lgvi {
   }
   State<Scalar> to_state(const Internal& y) const { return {y.R, J_.solve(y.Pi)}; }
 
-  StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
+  LGI_FLATTEN StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
     using T = Scalar;
     const T half_h = T(0.5) * h;
     Vec3<T> Pi = y.Pi;
@@ -100,9 +102,9 @@ class Lgvi {
     Vec3<T> c;
     if (const StepStatus s = solve_cayley(Vec3<T>(h * Pi), c); s != StepStatus::ok) return s;
     const T s = T(2) / (T(1) + c.squaredNorm());
-    const Mat3<T> F = so3::rodrigues(c, s, s);  // I + s (hat(c) + hat(c)²)
-    const Mat3<T> R1 = y.R * F;
-    Vec3<T> Pi1 = F.transpose() * Pi;
+    const Mat3<T> dF = so3::rodrigues_increment(c, s, s);  // F − I = s (hat(c) + hat(c)²)
+    const Mat3<T> R1 = y.R + y.R * dF;                      // R F, without rounding F's diagonal
+    Vec3<T> Pi1 = Pi + dF.transpose() * Pi;                 // Fᵀ Π
     const Vec3<T> M1 = torque(t + h, R1);
     if constexpr (P::has_torque) Pi1 += half_h * M1;
     if (!all_finite(R1) || !all_finite(Pi1)) return StepStatus::non_finite;
@@ -168,21 +170,24 @@ class Lgvi {
     c = sweep(c, half_mu);
     c = sweep(c, half_mu);
     const double K = J_inv_norm_ * (J_norm_ + static_cast<double>(value_of(mu.cwiseAbs().maxCoeff())));
-    double last = 0;
-    bool converged = false;
+    // Below this the update is round-off: the solve cannot resolve c better than cond(J)·ε.
+    const double floor = std::max(options_.tolerance, 16 * epsilon_v<T> * J_norm_ * J_inv_norm_);
     for (int it = 0; it < options_.max_iterations; ++it) {
       const Vec3<T> delta = newton_update(c, half_mu);
       c -= delta;
       ++iterations_;
-      if (converged) return StepStatus::ok;  // the extra update for the derivative part (Jets)
       const double d = static_cast<double>(value_of(delta.cwiseAbs().maxCoeff()));
       const double scale = static_cast<double>(value_of(c.cwiseAbs().maxCoeff()));
       if (!std::isfinite(d)) return StepStatus::non_finite;
-      converged = d <= options_.tolerance * scale ||                                   // update small
-                  (d <= 1e-3 * scale && 4 * K * d * d <= options_.tolerance * scale) ||  // next one would be
-                  (it > 0 && d > 0.5 * last && last <= 1e-8 * scale);                   // round-off floor
-      if (converged && !is_dual_v<T>) return StepStatus::ok;
-      last = d;
+      const bool converged = d <= floor * scale ||                                            // update small
+                             (d <= 1e-3 * scale && 4 * K * d * d <= options_.tolerance * scale);  // next one would be
+      if (converged) {
+        if constexpr (is_dual_v<T>) {  // one more update makes the derivative part exact (IFT)
+          c -= newton_update(c, half_mu);
+          ++iterations_;
+        }
+        return StepStatus::ok;
+      }
     }
     return StepStatus::not_converged;
   }

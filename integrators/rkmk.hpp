@@ -58,7 +58,7 @@ class Rkmk {
   Internal to_internal(const State<Scalar>& x, const Scalar&) const { return x; }
   State<Scalar> to_state(const Internal& y) const { return y; }
 
-  StepStatus step(Internal& x, const Scalar& t, const Scalar& h) {
+  LGI_FLATTEN StepStatus step(Internal& x, const Scalar& t, const Scalar& h) {
     constexpr int S = Tableau.stages;
     std::array<Vec3<Scalar>, S> U, V;
     Vec3<Scalar> Gamma;  // Rᵀa at the start of the step (reduced-attitude problems)
@@ -75,7 +75,9 @@ class Rkmk {
         }
       }(), ...);
     }(std::make_integer_sequence<int, S>{});
-    return commit(x, Mat3<Scalar>(x.R * so3::exp(Vec3<Scalar>(h * u))), Vec3<Scalar>(x.Omega + h * dOmega));
+    // R exp(hu) as R + R (exp(hu) − I): see core/so3.hpp on the rounding of the increment.
+    const Mat3<Scalar> R1 = x.R + x.R * so3::exp_increment(Vec3<Scalar>(h * u));
+    return commit(x, R1, Vec3<Scalar>(x.Omega + h * dOmega));
   }
 
   const P& problem() const { return problem_; }

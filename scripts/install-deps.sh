@@ -28,11 +28,11 @@ done
 ((${#missing[@]} == 0)) && exit 0
 
 echo "install-deps: installing ${missing[*]}" >&2
-sudo=()
+as_root=(env DEBIAN_FRONTEND=noninteractive)  # through env: sudo's env_reset would drop an export
 if ((EUID != 0)); then
   command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
-  sudo=(sudo)
+  # -n: fail at once rather than wait for a password nobody will type (CI); a terminal may prompt.
+  if [[ -t 0 ]]; then as_root=(sudo "${as_root[@]}"); else as_root=(sudo -n "${as_root[@]}"); fi
 fi
-export DEBIAN_FRONTEND=noninteractive
-"${sudo[@]}" apt-get update -qq >&2
-"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+"${as_root[@]}" apt-get update -qq >&2
+"${as_root[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2

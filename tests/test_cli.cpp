@@ -2,6 +2,7 @@
 // names the file and JSON path, exit status 1, and no output file; valid scenes write the CSV of the
 // contract (shared/DESIGN.md §3); a failing integration exits 2 and leaves no file.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -176,6 +177,11 @@ std::vector<BadScene> bad_scenes() {
       {"tolerance_for_explicit",
        std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk4", "dt": 0.1, "tolerance": 1e-12})"}),
        "/integrator/tolerance", "unknown key for explicit method rkmk4"},
+      {"deep_nesting",
+       std::string(SceneText{.rest = R"("t_end": 1, "output": )" + std::string(100, '[') + std::string(100, ']')}),
+       "/output/0/0/0", "nesting deeper than 64 levels"},
+      {"inertia_tiny_scale", std::string(SceneText{.problem = heavy(R"("inertia": [1e-300, 1e-300, 1e-300], "b": 1)")}),
+       "/problem/inertia", "outside [1e-150, 1e150]"},
   };
 }
 
@@ -308,6 +314,54 @@ TEST_F(Cli, FailedIntegrationExitsTwoAndLeavesNoFile) {
   EXPECT_FALSE(fs::exists(out));
   EXPECT_NE(r.err.find("the step from t = 0 failed: Newton iteration did not converge"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("/integrator/dt"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, ZeroDurationWritesTheInitialStateOnce) {
+  const fs::path file = write("zero.json", std::string(SceneText{.rest = R"("t_end": 0, "output": {"times": [0]})"}));
+  const Result r = lgi("run -q " + file.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Csv csv = parse_csv(r.out);
+  ASSERT_EQ(csv.rows.size(), 1u);
+  EXPECT_EQ(csv.text[0][csv.column("omega1")], "0.10000000000000001");  // the input, untouched
+}
+
+TEST_F(Cli, OutputFileProblemsAreReportedBeforeTheRun) {
+  const fs::path file = write("ok.json", std::string(SceneText{}));
+  const Result missing = lgi("run -q " + file.string() + " -o " + (dir_ / "no" / "such" / "dir.csv").string());
+  EXPECT_EQ(missing.status, 3);
+  EXPECT_NE(missing.err.find("cannot create the output file: No such file or directory"), std::string::npos)
+      << missing.err;
+  const Result directory = lgi("run -q " + file.string() + " -o " + dir_.string());
+  EXPECT_EQ(directory.status, 3);
+  EXPECT_NE(directory.err.find("it is a directory"), std::string::npos) << directory.err;
+}
+
+TEST_F(Cli, OutputFileHasTheUsualPermissions) {
+  const fs::path file = write("ok.json", std::string(SceneText{}));
+  const fs::path out = dir_ / "perm.csv";
+  const Result r = lgi("run -q " + file.string() + " -o " + out.string() + " ; true");
+  ASSERT_TRUE(fs::exists(out)) << r.err;
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  EXPECT_EQ(static_cast<unsigned>(fs::status(out).permissions() & fs::perms::all), 0666u & ~mask);
+}
+
+TEST_F(Cli, InterruptedRunLeavesNoFile) {
+  // 1e8 steps take seconds; SIGTERM after 0.3 s stops the run at its next check (every 1024 steps).
+  const fs::path file =
+      write("long.json", std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk4", "dt": 1e-6})",
+                                               .rest = R"("t_end": 100)"}));
+  const fs::path out = dir_ / "long.csv";
+  const fs::path err = dir_ / "stderr.txt";
+  const std::string cmd = std::string(LGI_EXE) + " run -q " + file.string() + " -o " + out.string() + " 2> " +
+                          err.string() + " & pid=$!; sleep 0.3; kill -TERM $pid; wait $pid";
+  const int raw = std::system(cmd.c_str());
+  const Result r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, "", slurp(err)};
+  EXPECT_EQ(r.status, 128 + 15);
+  EXPECT_NE(r.err.find("interrupted by SIGTERM at t = "), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& entry : fs::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
 }
 
 TEST_F(Cli, HelpListAndUsage) {

@@ -11,10 +11,13 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <array>
 #include <numbers>
+#include <string_view>
 #include <vector>
 
 namespace lgi {
@@ -85,6 +88,28 @@ TYPED_TEST(IntegratorTest, SteadyRotationIsExact) {
   }
 }
 
+// The same with a non-diagonal J (principal moments 2, 2, 1 rotated by Q): Ω along Q's columns, the
+// principal axes, is a steady rotation too; this takes the full-matrix paths.
+TYPED_TEST(IntegratorTest, SteadyRotationIsExactWithRotatedInertia) {
+  using S = typename TypeParam::template type<FreeBody<double>>;
+  const Mat3<double> Q = so3::exp(Vec3<double>(0.4, -0.3, 0.9));
+  FreeBody<double> body{Q * Vec3<double>(2.0, 2.0, 1.0).asDiagonal() * Q.transpose()};
+  body.inertia = (0.5 * (body.inertia + body.inertia.transpose())).eval();
+  const Mat3<double> R0 = so3::exp(Vec3<double>(0.3, -1.1, 0.4));
+  const double h = 0.01;
+  for (int axis = 0; axis < 3; ++axis) {
+    const Vec3<double> Omega = 4.0 * Q.col(axis);
+    S stepper(body);
+    auto y = stepper.to_internal({R0, Omega}, 0.0);
+    ASSERT_EQ(stepper.step(y, 0.0, h), StepStatus::ok);
+    const State<double> x1 = stepper.to_state(y);
+    const double angle = S::traits.name == "lgvi" ? std::asin(h * 4.0) : h * 4.0;
+    const Mat3<double> expected = R0 * so3::exp(Vec3<double>((angle / 4.0) * Omega));
+    EXPECT_LT((x1.R - expected).cwiseAbs().maxCoeff(), 1e-15) << S::traits.name << " axis " << axis;
+    EXPECT_LT((x1.Omega - Omega).cwiseAbs().maxCoeff(), 1e-14) << S::traits.name;
+  }
+}
+
 // Jets flow through every integrator: the derivative of the state after 50 steps with respect to Ω0 and
 // to the parameter b, carried by ceres::Jet, equals central finite differences.
 TYPED_TEST(IntegratorTest, JetDerivativesMatchFiniteDifferences) {
@@ -127,6 +152,87 @@ TYPED_TEST(IntegratorTest, JetDerivativesMatchFiniteDifferences) {
   // products with another summation order, and the LGVI takes one more Newton update for Jets).
   const State<double> plain = run(Vec3<double>::Zero(), 0.0);
   for (int r = 0; r < 3; ++r) EXPECT_NEAR(xj.Omega[r].a, plain.Omega[r], 1e-14);
+}
+
+// A Jet that carries ∂/∂J01 through a diagonal-valued inertia: the integrators must not take their
+// diagonal fast paths (which would drop that derivative). Checked against central differences.
+TYPED_TEST(IntegratorTest, InertiaDerivativeThroughDiagonalValue) {
+  using Jet = ceres::Jet<double, 1>;
+  using SJ = typename TypeParam::template type<HeavyTop<Jet>>;
+  using SD = typename TypeParam::template type<HeavyTop<double>>;
+  const auto problem = HeavyTop<double>::hairer_vilmart();
+  const State<double> x0 = test::hairer_vilmart_state(problem);
+  const double h = 0.02, T = 1.0;
+  auto jet_problem = problem.cast<Jet>();
+  jet_problem.inertia(0, 1).v[0] = 1;
+  jet_problem.inertia(1, 0).v[0] = 1;
+  State<Jet> xj = x0.cast<Jet>();
+  SJ jet_stepper(jet_problem);
+  ASSERT_EQ(integrate_to(jet_stepper, xj, Jet(0), Jet(h), Jet(T)).status, RunStatus::completed);
+  const auto run = [&](double dJ) {
+    auto p = problem;
+    p.inertia(0, 1) += dJ;
+    p.inertia(1, 0) += dJ;
+    State<double> x = x0;
+    SD stepper(p);
+    integrate_to(stepper, x, 0.0, h, T);
+    return x;
+  };
+  const double eps = 1e-6;
+  const State<double> plus = run(eps), minus = run(-eps);
+  double largest = 0;
+  for (int r = 0; r < 3; ++r) {
+    const double fd = (plus.Omega[r] - minus.Omega[r]) / (2 * eps);
+    largest = std::max(largest, std::abs(fd));
+    EXPECT_NEAR(xj.Omega[r].v[0], fd, 1e-7) << "dΩ" << r << "/dJ01";
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(xj.R(r, c).v[0], (plus.R(r, c) - minus.R(r, c)) / (2 * eps), 1e-7) << "dR/dJ01";
+  }
+  EXPECT_GT(largest, 0.1);  // the derivative is not trivially zero
+}
+
+// The heavy top seen only through torque(R): no reduced-attitude functions, so every integrator takes its
+// generic torque path (stage attitudes R·exp(u) in RKMK).
+struct OpaqueTop {
+  using Scalar = double;
+  static constexpr std::string_view name = "opaque_top";
+  static constexpr bool has_torque = true;
+  HeavyTop<double> top;
+  Mat3<double> inertia = top.inertia;
+  double potential(const Mat3<double>& R) const { return top.potential(R); }
+  Vec3<double> torque(const Mat3<double>& R) const { return top.torque(R); }
+  static constexpr std::array<std::string_view, 0> invariant_names{};
+  std::array<double, 0> invariants(const State<double>&) const { return {}; }
+};
+static_assert(RigidBodyProblem<OpaqueTop> && !ReducedAttitudeProblem<OpaqueTop>);
+static_assert(ReducedAttitudeProblem<HeavyTop<double>>);
+
+// Generic and reduced torque paths give the same trajectory to round-off, and the generic path has the
+// declared order too.
+TYPED_TEST(IntegratorTest, GenericTorquePathMatchesReducedPath) {
+  using SR = typename TypeParam::template type<HeavyTop<double>>;
+  using SG = typename TypeParam::template type<OpaqueTop>;
+  const auto top = test::skew_heavy_top();
+  const OpaqueTop opaque{top, top.inertia};
+  const State<double> x0 = test::skew_initial_state();
+  State<double> xr = x0, xg = x0;
+  SR reduced(top);
+  SG generic(opaque);
+  integrate_to(reduced, xr, 0.0, 0.01, 2.0);
+  integrate_to(generic, xg, 0.0, 0.01, 2.0);
+  EXPECT_LT(test::state_distance(xr, xg), 1e-13) << SR::traits.name;
+
+  const State<double> ref = test::reference_solution(top, x0, 2.0, 40000);
+  std::vector<double> hs, errors;
+  const int n0 = SG::traits.order == 1 ? 400 : SG::traits.order == 2 ? 50 : 20;
+  for (int n = n0; n <= 8 * n0; n *= 2) {
+    SG stepper(opaque);
+    State<double> x = x0;
+    integrate_to(stepper, x, 0.0, 2.0 / n, 2.0);
+    hs.push_back(2.0 / n);
+    errors.push_back(test::state_distance(x, ref));
+  }
+  EXPECT_NEAR(test::fitted_order(hs, errors), SG::traits.order, 0.2) << SG::traits.name;
 }
 
 // The LGVI's implicit equation has no solution along a principal axis once h|Ω| > 1 (sin φ = h|Ω|): the
