@@ -126,10 +126,16 @@ RunReport run_with(const P& problem, const Scene& scene, const RunOptions& optio
 template <class P, template <class> class... Ms>
 RunReport dispatch(const P& problem, const Scene& scene, const RunOptions& options, MethodList<Ms...>) {
   RunReport report;
-  const bool found = ((Ms<P>::traits.name == scene.method->traits.name
-                           ? (report = run_with<Ms>(problem, scene, options), true)
-                           : false) ||
-                      ...);
+  bool found = false;
+  const auto try_method = [&]<template <class> class M>() {
+    if constexpr (method_applies_v<M, P>) {
+      if (!found && M<P>::traits.name == scene.method->traits.name) {
+        report = run_with<M>(problem, scene, options);
+        found = true;
+      }
+    }
+  };
+  (try_method.template operator()<Ms>(), ...);
   if (!found) throw std::logic_error("lgi: method registry out of sync");
   return report;
 }

@@ -2,26 +2,9 @@
 
 #include <lgi/core/so3.hpp>
 
-#include <Eigen/SVD>
-
 #include <cmath>
 
 namespace lgi::app {
-namespace {
-
-// initial.R: a rotation to 1e-9 (‖RᵀR − I‖_F ≤ 1e-9, det > 0), returned as the nearest rotation.
-Mat3<double> read_rotation(const Node& node) {
-  const Mat3<double> R = node.mat3();
-  const double orth = so3::orthogonality_error(R);
-  const double det = R.determinant();
-  if (!(orth <= 1e-9) || !(det > 0))
-    node.fail("must be a rotation matrix (to 1e-9): |R^T R - I| = " + format_number(orth) +
-              ", det R = " + format_number(det));
-  const Eigen::JacobiSVD<Mat3<double>> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  return svd.matrixU() * svd.matrixV().transpose();  // polar factor: the nearest rotation
-}
-
-}  // namespace
 
 Scene parse_scene(const json& document, const std::string& file) {
   Scene scene;
@@ -50,6 +33,9 @@ Scene parse_scene(const json& document, const std::string& file) {
   scene.method = find_method(method);
   if (!scene.method)
     integrator.at("method").fail("unknown method \"" + method + "\" (known: " + known_methods() + ")");
+  if (!method_applies(method, type))
+    integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type +
+                                 " (methods that do: " + known_methods(type) + ")");
   if (scene.method->traits.explicit_method)
     integrator.allow_only({"method", "dt"}, "explicit method " + method);
   else

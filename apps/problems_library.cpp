@@ -1,0 +1,7 @@
+#include "registry.hpp"
+
+namespace lgi::app {
+
+std::vector<ProblemInfo> library_problem_infos() { return {}; }
+
+}  // namespace lgi::app
