@@ -2,9 +2,32 @@
 
 #include <lgi/core/so3.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <stdexcept>
 
 namespace lgi::app {
+namespace {
+
+// How each integrator option is read from the scene into StepperOptions (a method lists the keys it
+// takes in MethodTraits::options; any other key is an error naming the method).
+struct OptionReader {
+  std::string_view key;
+  void (*read)(const Node& node, StepperOptions& options);
+};
+
+constexpr OptionReader option_readers[] = {
+    {"tolerance",
+     [](const Node& n, StepperOptions& o) {
+       o.tolerance = n.positive();
+       if (o.tolerance >= 1e-2) n.fail("must be < 0.01, got " + format_number(o.tolerance));
+     }},
+    {"max_iterations",
+     [](const Node& n, StepperOptions& o) { o.max_iterations = static_cast<int>(n.integer(1, 1000)); }},
+};
+
+}  // namespace
 
 Scene parse_scene(const json& document, const std::string& file) {
   Scene scene;
@@ -36,16 +59,20 @@ Scene parse_scene(const json& document, const std::string& file) {
   if (!method_applies(method, type))
     integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type +
                                  " (methods that do: " + known_methods(type) + ")");
-  if (scene.method->traits.explicit_method)
-    integrator.allow_only({"method", "dt"}, "explicit method " + method);
-  else
-    integrator.allow_only({"method", "dt", "tolerance", "max_iterations"}, "method " + method);
+  std::vector<std::string_view> keys = {"method", "dt"};
+  for (const std::string_view key : scene.method->traits.options)
+    if (!key.empty()) keys.push_back(key);
+  integrator.allow_only(keys, "method " + method);
   scene.dt = integrator.at("dt").positive();
-  if (auto tol = integrator.find("tolerance")) {
-    scene.options.tolerance = tol->positive();
-    if (scene.options.tolerance >= 1e-2) tol->fail("must be < 0.01, got " + format_number(scene.options.tolerance));
+  for (const std::string_view key : scene.method->traits.options) {
+    if (key.empty()) continue;
+    const auto node = integrator.find(key);
+    if (!node) continue;
+    const auto reader = std::find_if(std::begin(option_readers), std::end(option_readers),
+                                     [&](const OptionReader& r) { return r.key == key; });
+    if (reader == std::end(option_readers)) throw std::logic_error("lgi: no reader for option " + std::string(key));
+    reader->read(*node, scene.options);
   }
-  if (auto it = integrator.find("max_iterations")) scene.options.max_iterations = static_cast<int>(it->integer(1, 1000));
 
   // t_end and the number of steps it implies
   const Node t_end = root.at("t_end");

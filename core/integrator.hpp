@@ -18,6 +18,7 @@
 #include "problem.hpp"
 #include "state.hpp"
 
+#include <array>
 #include <concepts>
 #include <cstdint>
 #include <stdexcept>
@@ -36,6 +37,8 @@ struct MethodTraits {
   bool exact_on_group;           // R stays on SO(3) to round-off by construction
   bool preserves_momentum;       // the spatial momentum components conserved by the problem (m, m·k)
   std::string_view reference;    // paper and equation numbers
+  // The scene keys of "integrator" this method reads besides "method" and "dt" (StepperOptions fields).
+  std::array<std::string_view, 6> options{};
 };
 
 enum class StepStatus : std::uint8_t {

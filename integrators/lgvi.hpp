@@ -68,6 +68,7 @@ class Lgvi {
       .exact_on_group = true,
       .preserves_momentum = true,
       .reference = "Lee, Leok, McClamroch, IEEE CCA 2005; CMAME 196 (2007) 2907",
+      .options = {"tolerance", "max_iterations"},
   };
 
   explicit Lgvi(const P& problem, const StepperOptions& options = {})

@@ -176,7 +176,7 @@ std::vector<BadScene> bad_scenes() {
        "/integrator/max_iterations", "expected an integer"},
       {"tolerance_for_explicit",
        std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk4", "dt": 0.1, "tolerance": 1e-12})"}),
-       "/integrator/tolerance", "unknown key for explicit method rkmk4"},
+       "/integrator/tolerance", "unknown key for method rkmk4"},
       {"deep_nesting",
        std::string(SceneText{.rest = R"("t_end": 1, "output": )" + std::string(100, '[') + std::string(100, ']')}),
        "/output/0/0/0", "nesting deeper than 64 levels"},
