@@ -14,6 +14,7 @@ packages=(
   libgtest-dev libgmock-dev
   libbenchmark-dev      # Google Benchmark
   nlohmann-json3-dev    # scene files
+  libboost-dev          # Boost.Math: elliptic functions for exact solutions (header-only)
   libcli11-dev          # command line
   valgrind              # callgrind instruction counts (benchmarks)
 )
