@@ -1,6 +1,8 @@
 #include "scene.hpp"
 
 #include <lgi/core/so3.hpp>
+#include <lgi/integrators/adaptive.hpp>
+#include <lgi/integrators/projection.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -25,6 +27,30 @@ constexpr OptionReader option_readers[] = {
      }},
     {"max_iterations",
      [](const Node& n, StepperOptions& o) { o.max_iterations = static_cast<int>(n.integer(1, 1000)); }},
+    // [outer, middle, inner]: the principal axes 1, 2, 3 of an axis-rotation splitting, in any order.
+    {"axis_order",
+     [](const Node& n, StepperOptions& o) {
+       if (!n.is_array() || n.size() != 3) n.fail("must be an array of three axes, a permutation of [1, 2, 3]");
+       for (std::size_t i = 0; i < 3; ++i) o.axis_order[i] = static_cast<int>(n.at(i).integer(1, 3));
+       if (o.axis_order[0] == o.axis_order[1] || o.axis_order[0] == o.axis_order[2] ||
+           o.axis_order[1] == o.axis_order[2])
+         n.fail("must be a permutation of [1, 2, 3]");
+     }},
+    // Embedded pairs: giving rtol and atol makes the run adaptive (integrators/adaptive.hpp); dt is then the
+    // initial step. rtol ≥ 10 ε like DOPRI5/DOP853 (below it the error estimate cannot see round-off).
+    {"rtol",
+     [](const Node& n, StepperOptions& o) {
+       o.rtol = n.positive();
+       if (!(o.rtol >= lgi::min_rtol && o.rtol < 1))
+         n.fail("must be in [" + format_number(lgi::min_rtol) + " (10 machine epsilons), 1), got " + format_number(o.rtol));
+     }},
+    {"atol", [](const Node& n, StepperOptions& o) { o.atol = n.positive(); }},
+    // Non-symplectic methods: restore energy and momentum after every step (integrators/projection.hpp).
+    {"projection",
+     [](const Node& n, StepperOptions& o) {
+       if (!n.value().is_boolean()) n.fail("expected true or false, got " + describe(n.value()));
+       o.projection = n.value().get<bool>();
+     }},
 };
 
 }  // namespace
@@ -46,9 +72,18 @@ Scene parse_scene(const json& document, const std::string& file) {
 
   // initial
   const Node initial = root.at("initial");
-  initial.allow_only({"R", "omega"});
-  if (auto R = initial.find("R")) scene.initial.R = read_rotation(*R);
-  scene.initial.Omega = initial.at("omega").vec3();
+  initial.allow_only({"R", "omega", "euler_angles", "euler_rates"});
+  if (initial.find("euler_angles") || initial.find("euler_rates")) {
+    // The seed paper's Euler angles (φ, θ, ψ) and their rates, in place of R and omega: R by its eq. (6.3).
+    if (initial.find("R") || initial.find("omega"))
+      initial.fail("give either R and omega, or euler_angles and euler_rates, not both");
+    const Vec3<double> a = initial.at("euler_angles").vec3(), r = initial.at("euler_rates").vec3();
+    scene.initial.R = rotation_from_euler_angles(a[0], a[1], a[2]);
+    scene.initial.Omega = body_rate_from_euler_rates(a[1], a[2], r[0], r[1], r[2]);
+  } else {
+    if (auto R = initial.find("R")) scene.initial.R = read_rotation(*R);
+    scene.initial.Omega = initial.at("omega").vec3();
+  }
 
   // integrator
   const Node integrator = root.at("integrator");
@@ -60,8 +95,10 @@ Scene parse_scene(const json& document, const std::string& file) {
     integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type +
                                  " (methods that do: " + known_methods(type) + ")");
   std::vector<std::string_view> keys = {"method", "dt"};
+  // A problem whose state is not on SO(3) runs the method's tableau with fixed steps (problems_paper.hpp).
+  const bool takes_options = !runs_off_group(type);
   for (const std::string_view key : scene.method->traits.options)
-    if (!key.empty()) keys.push_back(key);
+    if (!key.empty() && takes_options) keys.push_back(key);
   integrator.allow_only(keys, "method " + method);
   scene.dt = integrator.at("dt").positive();
   for (const std::string_view key : scene.method->traits.options) {
@@ -73,6 +110,11 @@ Scene parse_scene(const json& document, const std::string& file) {
     if (reader == std::end(option_readers)) throw std::logic_error("lgi: no reader for option " + std::string(key));
     reader->read(*node, scene.options);
   }
+  if ((scene.options.rtol > 0) != (scene.options.atol > 0))
+    integrator.fail("an adaptive run needs both \"rtol\" and \"atol\" (fixed steps: neither)");
+  if (scene.options.projection &&
+      !std::visit([](const auto& p) { return ProjectableProblem<std::decay_t<decltype(p)>>; }, scene.problem))
+    integrator.at("projection").fail("problem " + type + " has a time-dependent torque: no energy to project onto");
 
   // t_end and the number of steps it implies
   const Node t_end = root.at("t_end");

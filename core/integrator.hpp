@@ -45,6 +45,7 @@ enum class StepStatus : std::uint8_t {
   ok = 0,
   not_converged,  // the implicit equation's Newton iteration did not converge within its limits
   non_finite,     // the step produced a non-finite number (torque NaN, overflow)
+  step_size_underflow,  // adaptive: the error test failed down to the smallest step allowed
 };
 
 constexpr std::string_view to_string(StepStatus s) {
@@ -52,6 +53,7 @@ constexpr std::string_view to_string(StepStatus s) {
     case StepStatus::ok: return "ok";
     case StepStatus::not_converged: return "Newton iteration did not converge";
     case StepStatus::non_finite: return "non-finite state";
+    case StepStatus::step_size_underflow: return "step size underflow (the error tolerance cannot be met)";
   }
   return "?";
 }
@@ -60,12 +62,25 @@ constexpr std::string_view to_string(StepStatus s) {
 struct StepperOptions {
   double tolerance = 1e-14;  // Newton: stop when the update is below tolerance · |solution|
   int max_iterations = 20;   // Newton: give up (StepStatus::not_converged) after this many updates
+  // Embedded pairs: relative and absolute error tolerances of adaptive steps; 0 = fixed steps.
+  double rtol = 0, atol = 0;
+  // Non-symplectic methods: restore the invariants after every step (integrators/projection.hpp).
+  bool projection = false;
+  // Axis-rotation splittings: the principal axes (1, 2, 3) in the order outer, middle, inner of the
+  // symmetric composition a(h/2) b(h/2) c(h) b(h/2) a(h/2); {0, 0, 0}: chosen from the moments.
+  std::array<int, 3> axis_order{0, 0, 0};
 
   // Throws std::invalid_argument unless 0 < tolerance < 1e-2 and max_iterations ≥ 1.
   void check() const {
     if (!(tolerance > 0 && tolerance < 1e-2))
       throw std::invalid_argument("lgi::StepperOptions: tolerance must be in (0, 0.01)");
     if (max_iterations < 1) throw std::invalid_argument("lgi::StepperOptions: max_iterations must be >= 1");
+    const bool automatic = axis_order[0] == 0 && axis_order[1] == 0 && axis_order[2] == 0;
+    bool permutation = true;  // {1, 2, 3} in some order
+    for (int i = 0; i < 3; ++i)
+      permutation = permutation && axis_order[i] >= 1 && axis_order[i] <= 3 && axis_order[i] != axis_order[(i + 1) % 3];
+    if (!automatic && !permutation)
+      throw std::invalid_argument("lgi::StepperOptions: axis_order must be a permutation of 1, 2, 3");
   }
 };
 

@@ -172,7 +172,7 @@ class Lgvi {
     c = sweep(c, half_mu);
     const double K = J_inv_norm_ * (J_norm_ + static_cast<double>(value_of(mu.cwiseAbs().maxCoeff())));
     // Below this the update is round-off: the solve cannot resolve c better than cond(J)·ε.
-    const double floor = std::max(options_.tolerance, 16 * epsilon_v<T> * J_norm_ * J_inv_norm_);
+    const double floor = std::max(options_.tolerance, static_cast<double>(16 * epsilon_v<T>) * J_norm_ * J_inv_norm_);
     for (int it = 0; it < options_.max_iterations; ++it) {
       const Vec3<T> delta = newton_update(c, half_mu);
       c -= delta;

@@ -1,4 +1,5 @@
-// lgi/integrators/rkmk.hpp — Runge–Kutta–Munthe-Kaas methods for any explicit Butcher tableau.
+// lgi/integrators/rkmk.hpp — Runge–Kutta–Munthe-Kaas methods for any explicit Butcher tableau, with
+// adaptive steps and dense output on the group for embedded pairs.
 //
 // With body angular velocity the flow is R(t) = R_n exp(u(t)), and u obeys the ODE in the Lie algebra
 // (right trivialisation; Hairer–Lubich–Wanner, GNI 2nd ed., eq. (IV.8.9) and Algorithm IV.8.3, with the
@@ -13,13 +14,31 @@
 //   update:   R_{n+1} = R_n exp(h Σ b_i U_i),   Ω_{n+1} = Ω_n + h Σ b_i V_i.
 //
 // The truncation after the ad^(p−2) term keeps the order p of the tableau (HLW Theorem IV.8.5;
-// Munthe-Kaas, Appl. Numer. Math. 29 (1999) 115) and makes the stage map a polynomial. Zero tableau
-// entries are skipped at compile time; for a torque-free problem no stage attitude is formed at all, and
-// for a torque that depends on R only through Γ = Rᵀa (ReducedAttitudeProblem: the heavy top) the stages
+// Munthe-Kaas, Appl. Numer. Math. 29 (1999) 115): along the exact flow u = tΩ + O(t²), so ad_u^k Ω =
+// O(t^(k+1)) and the dropped terms change a step by O(h^(p+1)). It makes the stage map a polynomial.
+// Zero tableau entries are skipped at compile time, and so are trailing stages with b_i = 0 in fixed steps
+// (Dormand–Prince's 7th stage); for a torque-free problem no stage attitude is formed at all, and for a
+// torque that depends on R only through Γ = Rᵀa (ReducedAttitudeProblem: the heavy top) the stages
 // rotate Γ_i = exp(u_i)ᵀ Γ_n instead of forming R_n exp(u_i).
 //
+// Embedded pairs (EmbeddedTableau: Dormand–Prince 5(4), DOP853) also give, for adaptive steps
+// (integrators/adaptive.hpp):
+//   error:   the two solutions R_n exp(u), R_n exp(û) differ by log(exp(û)ᵀ exp(u)) = δu + O(|u| |δu|) with
+//            δu = u − û = h Σ e_i U_i (e = b − b̂), and in Ω by δΩ = h Σ e_i V_i. The six components are
+//            scaled by sc = atol + rtol·1 for the attitude (a unit-size quantity: δu is the angle by which
+//            the body axes, unit vectors, move) and sc_k = atol + rtol·max(|Ω_n,k|, |Ω_{n+1},k|) for Ω
+//            (HNW I, §II.4, the scaling of Hairer's codes), and combined in the RMS norm
+//            err = √(Σ (δ_k/sc_k)²/6) — for DOP853 err = ‖δ₅‖²/√(‖δ₅‖² + 0.01‖δ₃‖²) as in dop853.f.
+//   dense:   the continuous extension applied in the Lie algebra, u(θh) = h Σ b_i(θ) U_i, Ω(t_n + θh) =
+//            Ω_n + h Σ b_i(θ) V_i, R(t_n + θh) = R_n exp(u(θh)): it is the RK dense output of the ODE above,
+//            so it has the tableau's dense order (4 for DP5, 7 for DOP853) and R stays on SO(3). DOP853's
+//            four extra stages (at the new point, and c = 0.1, 0.2, 7/9) are computed only when a step is
+//            asked for output. Munthe-Kaas, BIT 38 (1998) 92 (the continuous RKMK idea); Engø, BIT 40
+//            (2000) 41 ("Numerical analysis of Lie group methods", variable steps and interpolation).
+//
 // Order: that of the tableau. R stays on SO(3) to round-off (products of exponentials). Not symplectic,
-// not symmetric; energy and momentum drift like those of the underlying Runge–Kutta method.
+// not symmetric; energy and momentum drift like those of the underlying Runge–Kutta method (the
+// projection of integrators/projection.hpp restores them).
 #pragma once
 
 #include "../core/inertia.hpp"
@@ -29,7 +48,10 @@
 #include "../core/state.hpp"
 #include "butcher_tableaus.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
 #include <utility>
 
 namespace lgi {
@@ -41,6 +63,33 @@ class Rkmk {
   using Scalar = typename P::Scalar;
   using Internal = State<Scalar>;
 
+  // An embedded pair: error estimate, dense output, adaptive steps.
+  static constexpr bool embedded = requires { Tableau.e; Tableau.dense; };
+
+ private:
+  static constexpr int series_degree = Tableau.order > 2 ? Tableau.order - 2 : 0;
+  static constexpr bool reduced = P::has_torque && ReducedAttitudeProblem<P>;
+  static constexpr int dense_stages = [] {
+    if constexpr (embedded) return Tableau.dense_stages; else return Tableau.stages;
+  }();
+  static constexpr bool has_second_estimate = [] {
+    if constexpr (embedded) {
+      for (const double e : Tableau.e3)
+        if (e != 0) return true;
+    }
+    return false;
+  }();
+  // Stages a fixed step needs: up to the last one with b_i ≠ 0 (later ones feed only the error estimate).
+  static constexpr int update_stages = [] {
+    int n = 0;
+    for (int i = 0; i < Tableau.stages; ++i)
+      if (Tableau.b[i] != 0) n = i + 1;
+    return n;
+  }();
+  enum class Weights { b, e, e3 };
+
+ public:
+
   static constexpr MethodTraits traits{
       .name = Tableau.name,
       .title = Tableau.title,
@@ -51,40 +100,156 @@ class Rkmk {
       .exact_on_group = true,
       .preserves_momentum = false,
       .reference = Tableau.reference,
+      .options = embedded ? std::array<std::string_view, 6>{"rtol", "atol", "projection"}
+                          : std::array<std::string_view, 6>{"projection"},
   };
 
-  explicit Rkmk(const P& problem, const StepperOptions& = {}) : problem_(problem), J_(problem.inertia) {}
+  explicit Rkmk(const P& problem, const StepperOptions& options = {})
+      : problem_(problem), J_(problem.inertia), rtol_(options.rtol), atol_(options.atol) {}
 
   Internal to_internal(const State<Scalar>& x, const Scalar&) const { return x; }
   State<Scalar> to_state(const Internal& y) const { return y; }
 
   LGI_FLATTEN StepStatus step(Internal& x, const Scalar& t, const Scalar& h) {
-    constexpr int S = Tableau.stages;
-    std::array<Vec3<Scalar>, S> U, V;
+    std::array<Vec3<Scalar>, Tableau.stages> U, V;
     Vec3<Scalar> Gamma;  // Rᵀa at the start of the step (reduced-attitude problems)
     if constexpr (reduced) Gamma = x.R.transpose() * problem_.reduced_axis();
     [&]<int... I>(std::integer_sequence<int, I...>) {
       (stage<I>(x, Gamma, t, h, U, V), ...);
-    }(std::make_integer_sequence<int, S>{});
-    Vec3<Scalar> u = Vec3<Scalar>::Zero(), dOmega = Vec3<Scalar>::Zero();
-    [&]<int... I>(std::integer_sequence<int, I...>) {
-      ([&] {
-        if constexpr (Tableau.b[I] != 0) {
-          u += Scalar(Tableau.b[I]) * U[I];
-          dOmega += Scalar(Tableau.b[I]) * V[I];
-        }
-      }(), ...);
-    }(std::make_integer_sequence<int, S>{});
+    }(std::make_integer_sequence<int, update_stages>{});
+    Vec3<Scalar> u, dOmega;
+    weighted_sums<Weights::b, update_stages>(U, V, u, dOmega);
     // R exp(hu) as R + R (exp(hu) − I): see core/so3.hpp on the rounding of the increment.
     const Mat3<Scalar> R1 = x.R + x.R * so3::exp_increment(Vec3<Scalar>(h * u));
     return commit(x, R1, Vec3<Scalar>(x.Omega + h * dOmega));
   }
 
+  // ---- embedded pairs: adaptive steps and dense output (integrators/adaptive.hpp) ----
+
+  // The exponent k of the step-size rule h ∝ err^(−1/k).
+  static constexpr int control_order = [] {
+    if constexpr (embedded) return Tableau.control_order; else return 0;
+  }();
+
+  // What a step leaves for its dense output: its start, its size and its stage derivatives.
+  struct Dense {
+    State<Scalar> x;
+    Scalar t, h;
+    Vec3<Scalar> Gamma;
+    std::array<Vec3<Scalar>, dense_stages> U, V;
+    bool extended = false;  // the dense-only stages are computed
+  };
+
+  // One trial step of size h from (x, t): the new state in x1 (x untouched) and the scaled error norm in
+  // `error` (≤ 1: acceptable). The stages stay in `d` for dense_output. Status non_finite when the trial
+  // state is not finite (then `error` is +inf).
+  LGI_FLATTEN StepStatus attempt(const Internal& x, const Scalar& t, const Scalar& h, Internal& x1, double& error,
+                                 Dense& d) const
+    requires embedded
+  {
+    d.x = x;
+    d.t = t;
+    d.h = h;
+    d.extended = false;
+    if constexpr (reduced) d.Gamma = x.R.transpose() * problem_.reduced_axis();
+    [&]<int... I>(std::integer_sequence<int, I...>) {
+      (stage<I>(x, d.Gamma, t, h, d.U, d.V), ...);
+    }(std::make_integer_sequence<int, Tableau.stages>{});
+    Vec3<Scalar> u, dOmega, du, dW;
+    weighted_sums<Weights::b, Tableau.stages>(d.U, d.V, u, dOmega);
+    weighted_sums<Weights::e, Tableau.stages>(d.U, d.V, du, dW);
+    const Mat3<Scalar> R1 = x.R + x.R * so3::exp_increment(Vec3<Scalar>(h * u));
+    const Vec3<Scalar> Omega1 = x.Omega + h * dOmega;
+    if (!all_finite(R1) || !all_finite(Omega1)) {
+      error = std::numeric_limits<double>::infinity();
+      return StepStatus::non_finite;
+    }
+    const auto scaled = [&](const Vec3<Scalar>& a, const Vec3<Scalar>& w) {  // Σ (δ_k / sc_k)²
+      const double hv = std::abs(static_cast<double>(value_of(h)));
+      const double sa = atol_ + rtol_;
+      double s = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double ea = hv * static_cast<double>(value_of(a[k])) / sa;
+        const double sw = atol_ + rtol_ * std::max(std::abs(static_cast<double>(value_of(x.Omega[k]))),
+                                                   std::abs(static_cast<double>(value_of(Omega1[k]))));
+        const double ew = hv * static_cast<double>(value_of(w[k])) / sw;
+        s += ea * ea + ew * ew;
+      }
+      return s;
+    };
+    const double s5 = scaled(du, dW);
+    if constexpr (has_second_estimate) {
+      Vec3<Scalar> du3, dW3;
+      weighted_sums<Weights::e3, Tableau.stages>(d.U, d.V, du3, dW3);
+      const double deno = s5 + 0.01 * scaled(du3, dW3);
+      error = deno > 0 ? s5 / std::sqrt(6.0 * deno) : 0.0;
+    } else {
+      error = std::sqrt(s5 / 6.0);
+    }
+    if (!std::isfinite(error)) error = std::numeric_limits<double>::infinity();
+    x1.R = R1;
+    x1.Omega = Omega1;
+    return StepStatus::ok;
+  }
+
+  // The state at t + θh of the step that filled d (θ ∈ [0, 1]): R_n exp(u(θh)), Ω(θh) from the continuous
+  // extension in the Lie algebra. Computes the dense-only stages on the first call for a step.
+  LGI_FLATTEN Internal dense_output(Dense& d, const Scalar& theta) const
+    requires embedded
+  {
+    if (!d.extended) {
+      [&]<int... I>(std::integer_sequence<int, I...>) {
+        (stage<Tableau.stages + I>(d.x, d.Gamma, d.t, d.h, d.U, d.V), ...);
+      }(std::make_integer_sequence<int, dense_stages - Tableau.stages>{});
+      d.extended = true;
+    }
+    std::array<Scalar, dense_stages> w;
+    for (int i = 0; i < dense_stages; ++i) {  // b_i(θ) = Σ_m dense[i][m−1] θ^m, Horner
+      Scalar p = Scalar(Tableau.dense[i][7]);
+      for (int m = 6; m >= 0; --m) p = p * theta + Scalar(Tableau.dense[i][m]);
+      w[i] = p * theta;
+    }
+    Vec3<Scalar> u = Vec3<Scalar>::Zero(), dOmega = Vec3<Scalar>::Zero();
+    for (int i = 0; i < dense_stages; ++i) {
+      u += w[i] * d.U[i];
+      dOmega += w[i] * d.V[i];
+    }
+    Internal y;
+    y.R = d.x.R + d.x.R * so3::exp_increment(Vec3<Scalar>(d.h * u));
+    y.Omega = d.x.Omega + d.h * dOmega;
+    return y;
+  }
+
+  double rtol() const { return rtol_; }
+  double atol() const { return atol_; }
   const P& problem() const { return problem_; }
 
  private:
-  static constexpr int series_degree = Tableau.order > 2 ? Tableau.order - 2 : 0;
-  static constexpr bool reduced = P::has_torque && ReducedAttitudeProblem<P>;
+  template <Weights W, int I>
+  static constexpr double weight() {
+    if constexpr (W == Weights::b)
+      return Tableau.b[I];
+    else if constexpr (W == Weights::e)
+      return Tableau.e[I];
+    else
+      return Tableau.e3[I];
+  }
+
+  // Σ_i w_i U_i and Σ_i w_i V_i over the first N stages, zero weights skipped at compile time.
+  template <Weights W, int N, std::size_t K>
+  static void weighted_sums(const std::array<Vec3<Scalar>, K>& U, const std::array<Vec3<Scalar>, K>& V,
+                            Vec3<Scalar>& u, Vec3<Scalar>& v) {
+    u.setZero();
+    v.setZero();
+    [&]<int... I>(std::integer_sequence<int, I...>) {
+      ([&] {
+        if constexpr (weight<W, I>() != 0) {
+          u += Scalar(weight<W, I>()) * U[I];
+          v += Scalar(weight<W, I>()) * V[I];
+        }
+      }(), ...);
+    }(std::make_integer_sequence<int, N>{});
+  }
 
   // Ω' = J⁻¹((JΩ) × Ω + M)
   Vec3<Scalar> acceleration(const Vec3<Scalar>& Omega, const Vec3<Scalar>& M) const {
@@ -94,9 +259,9 @@ class Rkmk {
     return J_.solve(Vec3<Scalar>(J_.apply(Omega).cross(Omega)));
   }
 
-  template <int I>
+  template <int I, std::size_t N>
   void stage(const State<Scalar>& x, const Vec3<Scalar>& Gamma, const Scalar& t, const Scalar& h,
-             std::array<Vec3<Scalar>, Tableau.stages>& U, std::array<Vec3<Scalar>, Tableau.stages>& V) const {
+             std::array<Vec3<Scalar>, N>& U, std::array<Vec3<Scalar>, N>& V) const {
     if constexpr (I == 0) {
       U[0] = x.Omega;
       if constexpr (reduced)
@@ -132,11 +297,22 @@ class Rkmk {
 
   P problem_;
   Inertia<Scalar> J_;
+  double rtol_, atol_;
 };
 
 template <RigidBodyProblem P>
 using LieEuler = Rkmk<tableaus::euler, P>;
 template <RigidBodyProblem P>
+using RkmkHeun = Rkmk<tableaus::heun, P>;
+template <RigidBodyProblem P>
+using Rkmk3 = Rkmk<tableaus::kutta3, P>;
+template <RigidBodyProblem P>
 using Rkmk4 = Rkmk<tableaus::classical_rk4, P>;
+template <RigidBodyProblem P>
+using Rkmk4Rule38 = Rkmk<tableaus::rule38, P>;
+template <RigidBodyProblem P>
+using RkmkDp5 = Rkmk<tableaus::dormand_prince5, P>;
+template <RigidBodyProblem P>
+using RkmkDp8 = Rkmk<tableaus::dop853, P>;
 
 }  // namespace lgi

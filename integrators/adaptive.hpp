@@ -1,0 +1,218 @@
+// lgi/integrators/adaptive.hpp — adaptive steps for embedded pairs: error control on the group, a PI
+// step-size controller with rejection, output times by dense output on the group.
+//
+// An AdaptiveStepper (RKMK with an EmbeddedTableau, integrators/rkmk.hpp; the embedding baselines with
+// DOP853, integrators/embedding.hpp; either wrapped in Projected, integrators/projection.hpp) offers
+//
+//   StepStatus attempt(y, t, h, y1, err, dense)   one trial step: y1 and the scaled error norm err (≤ 1: accept)
+//   Internal   dense_output(dense, θ)             the state at t + θh of that step, θ ∈ [0, 1]
+//   control_order                                 k: the error estimate behaves like h^k
+//
+// integrate_adaptive drives it (Hairer, Nørsett, Wanner, Solving ODEs I, 2nd ed., §II.4, and the step-size
+// logic of Hairer & Wanner's codes DOPRI5 and DOP853, whose parameter names are kept here):
+//
+//   PI controller (Gustafsson, ACM TOMS 17 (1991) 533; Gustafsson, Lundh, Söderlind, BIT 28 (1988) 270;
+//   Hairer & Wanner, Solving ODEs II, §IV.2 — equation numbers there not confirmed):
+//     h_new = h · clamp(safety · err_n^(−α) · err_{n−1}^β, fac_min, fac_max),   α = 1/k − 0.75 β,
+//   with err_{n−1} the error of the last accepted step (≥ 1e-4), β = 0.04 by default (β = 0: the classical
+//   controller h·safety·err^(−1/k)). A step with err > 1 is rejected and retried with
+//   h / min(1/fac_min, err^α / safety); after a rejection the next accepted step may not grow.
+//   Steps are clipped to h_max and to the final time (a step within 1 % of it is stretched to land on it,
+//   as DOPRI5 does); output times in between are never stepped to: they are read from the dense output of
+//   the step that covers them (on the group: R_n exp(u(θh)), integrators/rkmk.hpp), accurate to the
+//   method's dense order.
+//
+//   Failure is a status, never a NaN: a trial step that is not finite counts as rejected and shrinks h ten
+//   times; a step below max(h_min, 16 ε max(|t|, |t_end − t0|)) ends the run with RunStatus::step_failed
+//   and StepStatus::step_size_underflow (or non_finite when non-finite trials drove h down); max_steps
+//   attempted steps (accepted + rejected) or the monitor end it with RunStatus::stopped. x then holds the
+//   last accepted state and the summary its time.
+//
+// The error norm is computed on the value parts (ceres::Jet: derivatives do not steer the step sizes; a
+// trajectory's derivative is that of the fixed step sequence the values chose). Nothing is allocated.
+#pragma once
+
+#include "../core/driver.hpp"
+#include "../core/integrator.hpp"
+#include "../core/state.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <stdexcept>
+#include <type_traits>
+
+namespace lgi {
+
+// The smallest relative tolerance accepted: 10 ε, as in DOPRI5 and DOP853. Below it the error estimate (a
+// difference of two solutions) no longer sees the round-off of the solution itself and would "meet" any
+// tolerance with steps too small to mean anything.
+inline constexpr double min_rtol = 10 * std::numeric_limits<double>::epsilon();
+
+template <class S>
+concept AdaptiveStepper =
+    Stepper<S> && requires(const S& s, const typename S::Internal& y, typename S::Internal& y1,
+                           const typename S::Scalar& t, double& err, typename S::Dense& d) {
+      typename S::Dense;
+      { S::control_order } -> std::convertible_to<int>;
+      { s.attempt(y, t, t, y1, err, d) } -> std::same_as<StepStatus>;
+      { s.dense_output(d, t) } -> std::same_as<typename S::Internal>;
+      { s.rtol() } -> std::convertible_to<double>;
+      { s.atol() } -> std::convertible_to<double>;
+    } && (S::control_order > 0);
+
+// Step-size control (the defaults are DOPRI5's).
+struct AdaptiveOptions {
+  double safety = 0.9;     // h_new = h · safety · (1/err)^α …
+  double fac_min = 0.2;    // … at least fac_min · h
+  double fac_max = 10.0;   // … at most fac_max · h
+  double beta = 0.04;      // PI controller: exponent of the previous error (0: I controller)
+  double h_max = std::numeric_limits<double>::infinity();
+  double h_min = 0;        // a step below max(h_min, 16 ε max(|t|, |t_end − t0|)) fails (step_size_underflow)
+  std::int64_t max_steps = 1'000'000'000;  // attempted steps (accepted + rejected) before the run stops
+  std::int64_t every = 0;  // also observe every `every` accepted steps (0: only at the requested times)
+
+  // Throws std::invalid_argument unless the values make sense.
+  void check() const {
+    if (!(safety > 0 && safety <= 1)) throw std::invalid_argument("lgi::AdaptiveOptions: safety must be in (0, 1]");
+    if (!(fac_min > 0 && fac_min < 1)) throw std::invalid_argument("lgi::AdaptiveOptions: fac_min must be in (0, 1)");
+    if (!(fac_max > 1)) throw std::invalid_argument("lgi::AdaptiveOptions: fac_max must be > 1");
+    if (!(beta >= 0 && beta < 0.2)) throw std::invalid_argument("lgi::AdaptiveOptions: beta must be in [0, 0.2)");
+    if (!(h_max > 0)) throw std::invalid_argument("lgi::AdaptiveOptions: h_max must be > 0");
+    if (!(h_min >= 0)) throw std::invalid_argument("lgi::AdaptiveOptions: h_min must be >= 0");
+    if (max_steps < 1) throw std::invalid_argument("lgi::AdaptiveOptions: max_steps must be >= 1");
+    if (every < 0) throw std::invalid_argument("lgi::AdaptiveOptions: every must be >= 0");
+  }
+};
+
+struct AdaptiveSummary {
+  RunStatus status = RunStatus::completed;
+  StepStatus step_status = StepStatus::ok;
+  std::int64_t accepted = 0;
+  std::int64_t rejected = 0;  // error test failed (non-finite trials included)
+  double t = 0;               // time of the state left in x
+  double h = 0;               // the step size the controller proposes next
+};
+
+// Integrates from t0 with initial step h0 to times.back(), calling observe(t, x) at t0, at each of `times`
+// (strictly increasing, ≥ t0) and, with options.every = N > 0, after every N-th accepted step. On return x
+// is the state at times.back() (or the last accepted state, see the summary).
+template <AdaptiveStepper S, class Observer = NoObserver, class Monitor = NoMonitor>
+AdaptiveSummary integrate_adaptive(S& stepper, State<typename S::Scalar>& x, const typename S::Scalar& t0,
+                                   const typename S::Scalar& h0, std::span<const typename S::Scalar> times,
+                                   Observer&& observe = {}, const AdaptiveOptions& options = {},
+                                   Monitor&& monitor = {}) {
+  using T = typename S::Scalar;
+  using Internal = typename S::Internal;
+  options.check();
+  if (!(stepper.rtol() >= min_rtol && stepper.atol() > 0 && std::isfinite(stepper.rtol()) &&
+        std::isfinite(stepper.atol())))
+    throw std::invalid_argument(
+        "lgi::integrate_adaptive: the stepper's rtol must be >= 10 machine epsilons (2.2e-15) and atol > 0, both "
+        "finite");
+  if (!(value_of(h0) > 0)) throw std::invalid_argument("lgi::integrate_adaptive: initial step h0 must be positive");
+  for (std::size_t i = 0; i < times.size(); ++i)
+    if (!(value_of(times[i]) >= value_of(t0)) || (i > 0 && !(value_of(times[i]) > value_of(times[i - 1]))))
+      throw std::invalid_argument("lgi::integrate_adaptive: output times must be increasing and >= t0");
+
+  AdaptiveSummary summary;
+  summary.t = static_cast<double>(value_of(t0));
+  observe(t0, static_cast<const State<T>&>(x));
+  std::size_t next = 0;  // the next requested time to observe
+  while (next < times.size() && value_of(times[next]) == value_of(t0)) ++next;
+  if (next == times.size()) return summary;
+
+  const T t_end = times.back();
+  const double span = std::abs(static_cast<double>(value_of(t_end - t0)));
+  const double alpha = 1.0 / S::control_order - 0.75 * options.beta;
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+
+  Internal y = stepper.to_internal(x, t0), y1 = y;
+  typename S::Dense dense{};
+  T t = t0;
+  double h = std::min(static_cast<double>(value_of(h0)), options.h_max);
+  double err_old = 1e-4;   // DOPRI5's facold
+  bool rejected_last = false;
+  bool moved = false;
+  StepStatus cause = StepStatus::step_size_underflow;  // what drove h down, reported on underflow
+  std::int64_t attempts = 0;
+  bool done = false;
+  while (!done) {
+    if (attempts >= options.max_steps) {
+      summary.status = RunStatus::stopped;
+      break;
+    }
+    if constexpr (!std::is_same_v<std::remove_cvref_t<Monitor>, NoMonitor>) {
+      if (attempts > 0 && attempts % monitor_stride == 0 && !monitor(summary.accepted)) {
+        summary.status = RunStatus::stopped;
+        break;
+      }
+    }
+    const double remaining = static_cast<double>(value_of(t_end - t));
+    bool last = false;
+    if (h * 1.01 >= remaining) {  // land on t_end (stretching a step by ≤ 1 %)
+      h = remaining;
+      last = true;
+    }
+    const double h_floor = std::max(options.h_min, 16 * eps * std::max(std::abs(static_cast<double>(value_of(t))), span));
+    if (!(h >= h_floor) && !(last && h > 0)) {
+      summary.status = RunStatus::step_failed;
+      summary.step_status = cause;
+      break;
+    }
+    ++attempts;
+    const T hT = last ? T(t_end - t) : T(h);
+    double err = 0;
+    const StepStatus status = stepper.attempt(y, t, hT, y1, err, dense);
+    if (status != StepStatus::ok || !(err <= std::numeric_limits<double>::max())) {
+      ++summary.rejected;
+      cause = status == StepStatus::ok ? StepStatus::non_finite : status;
+      h *= 0.1;
+      rejected_last = true;
+      continue;
+    }
+    const double fac11 = std::pow(err, alpha);  // err^α
+    if (err <= 1.0) {
+      // accepted: outputs inside the step from its dense output, then the step's end
+      const T t_new = last ? t_end : T(t + hT);
+      while (next < times.size() && value_of(times[next]) < value_of(t_new)) {
+        const T theta = (times[next] - t) / hT;
+        observe(times[next], stepper.to_state(stepper.dense_output(dense, theta)));
+        ++next;
+      }
+      y = y1;
+      t = t_new;
+      moved = true;
+      ++summary.accepted;
+      summary.t = static_cast<double>(value_of(t));
+      bool observed = false;
+      if (next < times.size() && value_of(times[next]) == value_of(t)) {
+        observe(times[next], stepper.to_state(y));
+        ++next;
+        observed = true;
+      }
+      if (options.every > 0 && summary.accepted % options.every == 0 && !observed) observe(t, stepper.to_state(y));
+      double fac = fac11 / std::pow(err_old, options.beta);
+      fac = std::clamp(fac / options.safety, 1.0 / options.fac_max, 1.0 / options.fac_min);
+      double h_new = std::min(h / fac, options.h_max);
+      if (rejected_last) h_new = std::min(h_new, h);
+      err_old = std::max(err, 1e-4);
+      rejected_last = false;
+      cause = StepStatus::step_size_underflow;
+      h = h_new;
+      done = last || next >= times.size();
+    } else {
+      ++summary.rejected;
+      h /= std::min(1.0 / options.fac_min, fac11 / options.safety);
+      rejected_last = true;
+    }
+  }
+  summary.h = h;
+  if (moved) x = stepper.to_state(y);
+  return summary;
+}
+
+}  // namespace lgi

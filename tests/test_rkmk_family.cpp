@@ -1,0 +1,348 @@
+// The RKMK family, measured: every tableau against the Runge–Kutta order conditions; observed order of
+// every RKMK method on the free body and on the non-diagonal heavy top against an independent reference;
+// R on SO(3) after 10⁶ steps; energy drift (and a test that would catch a method that did not drift);
+// steady rotations; Jets against finite differences; generic and reduced torque paths.
+#include "order_measure.hpp"
+#include "rk_order_conditions.hpp"
+#include "test_problems.hpp"
+
+#include <lgi/core/driver.hpp>
+#include <lgi/core/invariants.hpp>
+#include <lgi/integrators/lgvi.hpp>
+#include <lgi/integrators/rkmk.hpp>
+#include <lgi/problems/free_body.hpp>
+#include <lgi/problems/heavy_top.hpp>
+
+#include <ceres/jet.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace lgi {
+namespace {
+
+using namespace lgi::test;
+
+// ---- order conditions -------------------------------------------------------------------------------
+
+template <class Tab>
+std::vector<std::vector<double>> matrix_of(const Tab& tab, int n) {
+  std::vector<std::vector<double>> A(static_cast<std::size_t>(n), std::vector<double>(static_cast<std::size_t>(n), 0.0));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) A[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = tab.a[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+  return A;
+}
+
+// Largest residual of the conditions of each order 1..max for weights w.
+std::vector<long double> residuals(const std::vector<test::RootedTree>& trees,
+                                   const std::vector<std::vector<long double>>& phi, const std::vector<double>& w,
+                                   int max_order, long double theta = 1.0L) {
+  std::vector<long double> r;
+  for (int q = 1; q <= max_order; ++q) r.push_back(test::order_residual(trees, phi, w, q, theta));
+  return r;
+}
+
+// Conditions up to `order` hold to `tol`; some condition of order + 1 fails by more than `fail` (so the
+// order is exactly the declared one, not higher).
+void expect_exact_order(const std::vector<long double>& r, int order, const std::string& what, long double tol = 1e-13L,
+                        long double fail = 1e-6L) {
+  for (int q = 1; q <= order; ++q) {
+    EXPECT_LT(r[static_cast<std::size_t>(q - 1)], tol) << what << ": order-" << q << " conditions";
+  }
+  if (static_cast<int>(r.size()) > order) {
+    EXPECT_GT(r[static_cast<std::size_t>(order)], fail) << what << ": satisfies the order-" << order + 1 << " conditions too";
+  }
+  std::printf("%-28s order %d: max residual up to order %d = %.2Le, order %d residual = %.2Le\n", what.c_str(), order,
+              order, *std::max_element(r.begin(), r.begin() + order),
+              order + 1, static_cast<int>(r.size()) > order ? r[static_cast<std::size_t>(order)] : 0.0L);
+}
+
+template <class Tab>
+void check_row_sums(const Tab& tab, int n, const std::string& what) {
+  for (int i = 0; i < n; ++i) {
+    double sum = 0, magnitude = 0;
+    for (int j = 0; j < i; ++j) {
+      sum += tab.a[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+      magnitude += std::abs(tab.a[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]);
+    }
+    // c_i = Σ_j a_ij up to the rounding of the coefficients to doubles (DOP853's rows sum entries up to 43)
+    EXPECT_NEAR(sum, tab.c[static_cast<std::size_t>(i)], 1e-15 * (1 + magnitude)) << what << " row " << i;
+    for (int j = i; j < n; ++j) EXPECT_EQ(tab.a[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)], 0.0) << what << ": not explicit";
+  }
+}
+
+template <int S>
+void check_plain(const ButcherTableau<S>& tab) {
+  const auto trees = test::rooted_trees(tab.order + 1);
+  const auto phi = test::elementary_weights(trees, matrix_of(tab, S));
+  check_row_sums(tab, S, std::string(tab.name));
+  expect_exact_order(residuals(trees, phi, std::vector<double>(tab.b.begin(), tab.b.end()), tab.order + 1), tab.order,
+                     std::string(tab.name));
+}
+
+TEST(OrderConditions, TreeCounts) {
+  const auto trees = test::rooted_trees(8);
+  std::vector<int> count(9, 0);
+  for (const auto& t : trees) ++count[static_cast<std::size_t>(t.order)];
+  EXPECT_EQ(count, (std::vector<int>{0, 1, 1, 2, 4, 9, 20, 48, 115}));  // OEIS A000081
+}
+
+TEST(OrderConditions, PlainTableaus) {
+  check_plain(tableaus::euler);
+  check_plain(tableaus::heun);
+  check_plain(tableaus::kutta3);
+  check_plain(tableaus::classical_rk4);
+  check_plain(tableaus::rule38);
+}
+
+template <int S, int SE>
+void check_pair(const EmbeddedTableau<S, SE>& tab) {
+  const std::string name(tab.name);
+  const auto trees = test::rooted_trees(tab.order + 1);
+  const auto phi = test::elementary_weights(trees, matrix_of(tab, SE));
+  check_row_sums(tab, SE, name);
+  // the first-same-as-last stage sits at the new point
+  for (int j = 0; j < S; ++j) EXPECT_EQ(tab.a[static_cast<std::size_t>(tab.fsal)][static_cast<std::size_t>(j)], tab.b[static_cast<std::size_t>(j)]);
+  std::vector<double> b(SE, 0.0), bhat(SE, 0.0), b3(SE, 0.0);
+  bool second = false;
+  for (int i = 0; i < S; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    b[k] = tab.b[k];
+    bhat[k] = tab.b[k] - tab.e[k];
+    b3[k] = tab.b[k] - tab.e3[k];
+    second = second || tab.e3[k] != 0;
+  }
+  expect_exact_order(residuals(trees, phi, b, tab.order + 1), tab.order, name + " b");
+  expect_exact_order(residuals(trees, phi, bhat, tab.order + 1), tab.embedded_order, name + " b-e");
+  if (second) expect_exact_order(residuals(trees, phi, b3, tab.order + 1), 3, name + " b-e3");
+  // The continuous extension: order dense_order at several θ, b(1) = b, b(0) = 0.
+  for (const long double theta : {0.1L, 0.37L, 0.5L, 0.83L, 1.0L}) {
+    std::vector<double> w(SE, 0.0);
+    for (int i = 0; i < SE; ++i) {
+      long double p = 0;
+      for (int m = 7; m >= 0; --m) p = p * theta + tab.dense[static_cast<std::size_t>(i)][static_cast<std::size_t>(m)];
+      w[static_cast<std::size_t>(i)] = static_cast<double>(p * theta);
+    }
+    const auto r = residuals(trees, phi, w, tab.dense_order + 1, theta);
+    for (int q = 1; q <= tab.dense_order; ++q) {
+      EXPECT_LT(r[static_cast<std::size_t>(q - 1)], 1e-12L) << name << " dense θ = " << static_cast<double>(theta) << " order " << q;
+    }
+    if (theta != 1.0L) {
+      EXPECT_GT(r[static_cast<std::size_t>(tab.dense_order)], 1e-9L) << name << " dense order is higher?";
+    }
+    std::printf("%-28s dense θ = %.2f: max residual up to order %d = %.2Le, order %d residual = %.2Le\n", name.c_str(),
+                static_cast<double>(theta), tab.dense_order, *std::max_element(r.begin(), r.begin() + tab.dense_order),
+                tab.dense_order + 1, r[static_cast<std::size_t>(tab.dense_order)]);
+    if (theta == 1.0L) {
+      for (int i = 0; i < SE; ++i) {
+        EXPECT_NEAR(w[static_cast<std::size_t>(i)], b[static_cast<std::size_t>(i)], 1e-12) << name << " b(1) = b, stage " << i;
+      }
+    }
+  }
+}
+
+TEST(OrderConditions, EmbeddedPairs) {
+  check_pair(tableaus::dormand_prince5);
+  check_pair(tableaus::dop853);
+}
+
+template <template <class> class M>
+struct MethodTag {
+  template <class P>
+  using type = M<P>;
+};
+
+template <class Tag>
+class RkmkFamily : public ::testing::Test {};
+using FamilyMethods = ::testing::Types<MethodTag<RkmkHeun>, MethodTag<Rkmk3>, MethodTag<Rkmk4Rule38>,
+                                       MethodTag<RkmkDp5>, MethodTag<RkmkDp8>, MethodTag<Rkmk4>>;
+TYPED_TEST_SUITE(RkmkFamily, FamilyMethods);
+
+TYPED_TEST(RkmkFamily, ObservedOrderOnTheSkewHeavyTop) {
+  const double p = observed_order<TypeParam::template type>(skew_top(), test::skew_initial_state(), 2.0,
+                                                            skew_reference(), "skew top");
+  EXPECT_NEAR(p, (TypeParam::template type<HeavyTop<double>>::traits.order), 0.2);
+}
+
+TYPED_TEST(RkmkFamily, ObservedOrderOnTheFreeBody) {
+  const double p = observed_order<TypeParam::template type>(gni_body(), gni_state(), 10.0, gni_reference(), "free body");
+  EXPECT_NEAR(p, (TypeParam::template type<FreeBody<double>>::traits.order), 0.2);
+}
+
+// On the Hairer–Vilmart free body (J = diag(0.6, 0.8, 1), m0 = (1.8, 0.4, −0.9), T = 2) DOP853 converges
+// faster than order 8 over most errors (in double: 9.2 over 1e-5 … 1e-12): the Euler equations are
+// quadratic, so only trees whose vertices have at most two children carry elementary differentials, and
+// DOP853's order-9 residuals on those trees are ≈ 18× smaller (max 1.5e-6) than on the others (2.7e-5):
+// the h⁸ term of the global error is small against h⁹ there. Measured: the order is at least 8.
+TEST(RkmkFamilyFindings, HairerVilmartFreeBodyDop853) {
+  const auto body = FreeBody<double>::hairer_vilmart();
+  const State<double> x0 = test::hairer_vilmart_state(body);
+  const Reference ref = make_reference(body, x0, 2.0);
+  // h|Ω(0)| up to 1: with 0.4 the errors are below 4e-13 from the first point
+  const double p = observed_order<RkmkDp8>(body, x0, 2.0, ref, "HV body", 1.0);
+  EXPECT_GT(p, 7.8);
+}
+
+// ---- long runs: R on SO(3), energy drift ------------------------------------------------------------
+
+struct LongRun {
+  std::vector<double> energy_error;
+  double orthogonality = 0;
+  std::int64_t steps = 0;
+};
+
+template <class S>
+LongRun long_run(const HeavyTop<double>& problem, const State<double>& x0, double h, std::int64_t n, std::int64_t every) {
+  S stepper(problem);
+  const double E0 = energy(problem, x0);
+  LongRun run;
+  auto observe = [&](double, const State<double>& x) {
+    run.energy_error.push_back((energy(problem, x) - E0) / std::abs(E0));
+    run.orthogonality = std::max(run.orthogonality, so3::orthogonality_error(x.R));
+  };
+  State<double> x = x0;
+  const auto summary = integrate_every(stepper, x, 0.0, h, h * static_cast<double>(n), every, observe);
+  EXPECT_EQ(summary.status, RunStatus::completed);
+  run.steps = summary.steps;
+  return run;
+}
+
+double max_abs(const std::vector<double>& v) {
+  double m = 0;
+  for (const double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+// The change of the mean (signed) error between the first and the last tenth of the run, relative to the
+// largest |error|: ≈ 0 for an error oscillating about a fixed mean, ≈ 0.9 for a linear drift from 0
+// (the measure of tests/test_long_run.cpp).
+double mean_shift(const std::vector<double>& err) {
+  const std::size_t n = err.size(), tenth = n / 10;
+  double first = 0, last = 0;
+  for (std::size_t i = 0; i < tenth; ++i) {
+    first += err[i];
+    last += err[n - tenth + i];
+  }
+  return std::abs(last - first) / static_cast<double>(tenth) / max_abs(err);
+}
+
+// Every RKMK method declares exact_on_group: ‖RᵀR − I‖ ≤ 1e-12 after 10⁶ steps (HV heavy top, h = 0.01).
+TYPED_TEST(RkmkFamily, MillionStepsStayOnSO3) {
+  using S = typename TypeParam::template type<HeavyTop<double>>;
+  static_assert(S::traits.exact_on_group);
+  const auto top = HeavyTop<double>::hairer_vilmart();
+  const LongRun run = long_run<S>(top, test::hairer_vilmart_state(top), 0.01, 1'000'000, 1000);
+  std::printf("%-10s 1e6 steps h = 0.01: max |RtR - I| = %.3e, final relative energy error %.3e\n", S::traits.name.data(),
+              run.orthogonality, run.energy_error.back());
+  EXPECT_EQ(run.steps, 1'000'000);
+  EXPECT_LE(run.orthogonality, 1e-12);
+}
+
+// Not symplectic: the energy drifts (HV heavy top, h = 0.05, 2·10⁵ steps: mean shift ≈ 0.9 for every
+// method). The same measure gives ≈ 0 for the LGVI below, so this test can tell a drift from none.
+TYPED_TEST(RkmkFamily, EnergyDrifts) {
+  using S = typename TypeParam::template type<HeavyTop<double>>;
+  const auto top = HeavyTop<double>::hairer_vilmart();
+  const LongRun run = long_run<S>(top, test::hairer_vilmart_state(top), 0.05, 200'000, 200);
+  const double shift = mean_shift(run.energy_error);
+  std::printf("%-10s h = 0.05, 2e5 steps: final relative energy error %.3e, mean shift %.3f\n", S::traits.name.data(),
+              run.energy_error.back(), shift);
+  EXPECT_GT(shift, 0.5) << S::traits.name;
+}
+
+TEST(RkmkFamilyControl, TheDriftMeasureSeesNoDriftInTheLgvi) {
+  const auto top = HeavyTop<double>::hairer_vilmart();
+  const LongRun run = long_run<Lgvi<HeavyTop<double>>>(top, test::hairer_vilmart_state(top), 0.05, 200'000, 200);
+  const double shift = mean_shift(run.energy_error);
+  std::printf("lgvi       h = 0.05, 2e5 steps: max relative energy error %.3e, mean shift %.3f\n",
+              max_abs(run.energy_error), shift);
+  EXPECT_LT(shift, 0.05);
+}
+
+// ---- steady rotation, Jets, torque paths -------------------------------------------------------------
+
+// A free symmetric body spinning about a principal axis: Ω constant, R(t) = R0 exp(tΩ). Every RKMK step
+// gives that exactly (u' = J_r⁻¹(u)Ω = Ω along Ω).
+TYPED_TEST(RkmkFamily, SteadyRotationIsExact) {
+  using S = typename TypeParam::template type<FreeBody<double>>;
+  FreeBody<double> body{Vec3<double>(2.0, 2.0, 1.0).asDiagonal()};
+  const Mat3<double> R0 = so3::exp(Vec3<double>(0.3, -1.1, 0.4));
+  for (const Vec3<double>& Omega : {Vec3<double>(0, 0, 5.0), Vec3<double>(3.0, -4.0, 0), Vec3<double>(0.7, 0, 0)}) {
+    S stepper(body);
+    auto y = stepper.to_internal({R0, Omega}, 0.0);
+    ASSERT_EQ(stepper.step(y, 0.0, 0.01), StepStatus::ok);
+    const Mat3<double> expected = R0 * so3::exp(Vec3<double>(0.01 * Omega));
+    EXPECT_LT((y.R - expected).cwiseAbs().maxCoeff(), 4e-16) << S::traits.name;
+    EXPECT_LT((y.Omega - Omega).cwiseAbs().maxCoeff(), 1e-15 * Omega.norm()) << S::traits.name;
+  }
+}
+
+// Jets through 50 steps: derivatives with respect to Ω0 and b against central differences.
+TYPED_TEST(RkmkFamily, JetDerivativesMatchFiniteDifferences) {
+  using Jet = ceres::Jet<double, 4>;
+  using SJ = typename TypeParam::template type<HeavyTop<Jet>>;
+  using SD = typename TypeParam::template type<HeavyTop<double>>;
+  const auto problem = test::skew_heavy_top();
+  const State<double> x0 = test::skew_initial_state();
+  const double h = 0.02, T = 1.0;
+  auto jet_problem = problem.cast<Jet>();
+  jet_problem.b.v[3] = 1;
+  State<Jet> xj = x0.cast<Jet>();
+  for (int i = 0; i < 3; ++i) xj.Omega[i].v[i] = 1;
+  SJ jet_stepper(jet_problem);
+  ASSERT_EQ(integrate_to(jet_stepper, xj, Jet(0), Jet(h), Jet(T)).status, RunStatus::completed);
+  const auto run = [&](const Vec3<double>& dOmega, double db) {
+    auto p = problem;
+    p.b += db;
+    State<double> x = x0;
+    x.Omega += dOmega;
+    SD stepper(p);
+    integrate_to(stepper, x, 0.0, h, T);
+    return x;
+  };
+  const double eps = 1e-6;
+  for (int j = 0; j < 4; ++j) {
+    const Vec3<double> d = j < 3 ? Vec3<double>(eps * Vec3<double>::Unit(j)) : Vec3<double>::Zero();
+    const double db = j == 3 ? eps : 0.0;
+    const State<double> plus = run(d, db), minus = run(-d, -db);
+    for (int r = 0; r < 3; ++r) {
+      EXPECT_NEAR(xj.Omega[r].v[j], (plus.Omega[r] - minus.Omega[r]) / (2 * eps), 1e-7) << SD::traits.name;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(xj.R(r, c).v[j], (plus.R(r, c) - minus.R(r, c)) / (2 * eps), 1e-7);
+    }
+  }
+  const State<double> plain = run(Vec3<double>::Zero(), 0.0);
+  for (int r = 0; r < 3; ++r) EXPECT_NEAR(xj.Omega[r].a, plain.Omega[r], 1e-14);
+}
+
+// The heavy top seen only through torque(R): stage attitudes R·exp(u) instead of rotated Γ.
+struct OpaqueTop {
+  using Scalar = double;
+  static constexpr std::string_view name = "opaque_top";
+  static constexpr bool has_torque = true;
+  HeavyTop<double> top;
+  Mat3<double> inertia = top.inertia;
+  double potential(const Mat3<double>& R) const { return top.potential(R); }
+  Vec3<double> torque(const Mat3<double>& R) const { return top.torque(R); }
+  static constexpr std::array<std::string_view, 0> invariant_names{};
+  std::array<double, 0> invariants(const State<double>&) const { return {}; }
+};
+
+TYPED_TEST(RkmkFamily, GenericTorquePathMatchesReducedPath) {
+  using SR = typename TypeParam::template type<HeavyTop<double>>;
+  using SG = typename TypeParam::template type<OpaqueTop>;
+  const auto top = test::skew_heavy_top();
+  const OpaqueTop opaque{top, top.inertia};
+  State<double> xr = test::skew_initial_state(), xg = xr;
+  SR reduced(top);
+  SG generic(opaque);
+  integrate_to(reduced, xr, 0.0, 0.01, 2.0);
+  integrate_to(generic, xg, 0.0, 0.01, 2.0);
+  EXPECT_LT(test::state_distance(xr, xg), 1e-13) << SR::traits.name;
+}
+
+}  // namespace
+}  // namespace lgi
