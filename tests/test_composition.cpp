@@ -1,0 +1,342 @@
+// Symmetric compositions of the LGVI, measured: the coefficient sets (symmetric, Σγ = 1, the odd-power
+// order conditions Σγ^(2k+1) = 0), observed orders 4–10 on a free symmetric body (exact solution) and on
+// the skew heavy top (long-double reference), time symmetry (step(h) then step(−h) returns), energy
+// bounded over long runs with m·k and R on SO(3) to round-off (and a non-symplectic negative control that
+// the same test flags), Jets against finite differences.
+#include "test_problems.hpp"
+
+#include <lgi/core/driver.hpp>
+#include <lgi/core/invariants.hpp>
+#include <lgi/integrators/commutator_free.hpp>
+#include <lgi/integrators/composition.hpp>
+#include <lgi/problems/free_body.hpp>
+#include <lgi/problems/heavy_top.hpp>
+
+#include <ceres/jet.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace lgi {
+namespace {
+
+// ---- the coefficient sets as data -------------------------------------------------------------------
+
+// Σγ^k in long double.
+template <class C>
+long double power_sum(const C& c, int k) {
+  long double s = 0;
+  for (const long double g : c.gamma) s += std::pow(g, k);
+  return s;
+}
+
+template <class C>
+void check_coefficients(const C& c, long double digits_tolerance) {
+  SCOPED_TRACE(std::string(c.name));
+  for (std::size_t i = 0; i < c.stages; ++i) EXPECT_EQ(c.gamma[i], c.gamma[c.stages - 1 - i]) << "symmetric";
+  EXPECT_LT(std::abs(power_sum(c, 1) - 1.0L), 1e-18L) << "Σγ = 1";
+  // The one-vertex trees of HLW Fig. V.3.3: Σγ^(2k+1) = 0 for 2k + 1 < order (a necessary part of the
+  // order conditions; the full set is tested by the observed orders below). The tolerance reflects the
+  // digits published (26 for most sets, 15 for Yoshida's order 8) times the size of the γ^(2k+1).
+  long double largest = 0;
+  for (const long double g : c.gamma) largest = std::max(largest, std::abs(g));
+  for (int k = 3; k < c.order; k += 2) {
+    const long double tol = digits_tolerance * static_cast<long double>(c.stages) * std::pow(largest, k);
+    EXPECT_LT(std::abs(power_sum(c, k)), tol) << "Σγ^" << k << " = " << static_cast<double>(power_sum(c, k));
+  }
+  // The next power does not vanish: the set is not of a higher order by accident.
+  EXPECT_GT(std::abs(power_sum(c, c.order + 1)), 1e-6L);
+}
+
+TEST(CompositionCoefficients, SymmetricConsistentAndOddPowersVanish) {
+  check_coefficients(compositions::yoshida4, 1e-18L);
+  check_coefficients(compositions::suzuki4, 1e-18L);
+  check_coefficients(compositions::yoshida6, 1e-18L);
+  check_coefficients(compositions::kahan_li6, 1e-18L);
+  check_coefficients(compositions::yoshida8, 1e-15L);
+  check_coefficients(compositions::kahan_li8, 1e-18L);
+  check_coefficients(compositions::sofroniou_spaletta10, 1e-18L);
+  EXPECT_EQ(compositions::kahan_li8.stages, 17u);
+  EXPECT_EQ(compositions::sofroniou_spaletta10.stages, 35u);
+}
+
+TEST(CompositionCoefficients, TraitsComeFromBaseAndCoefficients) {
+  using S = LgviKahanLi8<HeavyTop<double>>;
+  EXPECT_EQ(S::traits.name, "lgvi_kahan_li8");
+  EXPECT_EQ(S::traits.order, 8);
+  EXPECT_TRUE(S::traits.symplectic && S::traits.symmetric && S::traits.exact_on_group && S::traits.preserves_momentum);
+  EXPECT_FALSE(S::traits.explicit_method);
+  EXPECT_EQ(S::traits.options, Lgvi<HeavyTop<double>>::traits.options);
+  EXPECT_EQ(LgviSofroniouSpaletta10<FreeBody<double>>::traits.name, "lgvi_sofroniou_spaletta10");
+  EXPECT_NE(S::traits.reference.find("Kahan"), std::string_view::npos);
+  static_assert(Stepper<LgviYoshida4<HeavyTop<double>>>);
+}
+
+// ---- observed orders ---------------------------------------------------------------------------------
+
+// The free symmetric body J = Q diag(I, I, I3) Qᵀ: elementary exact solution, evaluated in long double
+// (see tests/test_commutator_free.cpp, which also checks it against the long-double RK4 reference).
+struct SymmetricBody {
+  Mat3<double> Q = so3::exp(Vec3<double>(0.3, -0.2, 0.5));
+  double I = 0.8, I3 = 1.3;
+  FreeBody<double> problem() const {
+    FreeBody<double> p{Q * Vec3<double>(I, I, I3).asDiagonal() * Q.transpose()};
+    p.inertia = (0.5 * (p.inertia + p.inertia.transpose())).eval();
+    return p;
+  }
+  State<double> initial() const { return {so3::exp(Vec3<double>(0.2, 0.1, -0.4)), Vec3<double>(0.9, -0.5, 1.2)}; }
+  State<double> exact(double t_) const {
+    using L = long double;
+    const Mat3<L> q = Q.cast<L>();
+    const State<double> x0 = initial();
+    const Vec3<L> w = q.transpose() * x0.Omega.cast<L>();
+    const L i = I, i3 = I3, t = t_;
+    const Vec3<L> M(i * w(0), i * w(1), i3 * w(2));
+    const L lambda = (i3 - i) * w(2) / i;
+    const Mat3<L> Rp = x0.R.cast<L>() * q * so3::exp(Vec3<L>((t / i) * M)) *
+                       so3::exp(Vec3<L>(-lambda * t * Vec3<L>::UnitZ()));
+    const Vec3<L> wt = so3::exp(Vec3<L>(lambda * t * Vec3<L>::UnitZ())) * w;
+    return {Mat3<L>(Rp * q.transpose()).cast<double>(), Vec3<L>(q * wt).cast<double>()};
+  }
+};
+
+// Per method: step counts over T = 4 (free body) and T = 2 (skew heavy top), chosen in the asymptotic range
+// and with every error above 1e-13 (double round-off over these runs is ≈ 1e-15; the references' own
+// errors are below 1e-16).
+template <template <class> class Method>
+struct Steps;
+template <>
+struct Steps<LgviYoshida4> {
+  static inline const std::vector<int> free{80, 160, 320, 640}, top{40, 80, 160, 320, 640};
+};
+template <>
+struct Steps<LgviSuzuki4> {
+  static inline const std::vector<int> free{40, 80, 160, 320, 640}, top{20, 40, 80, 160, 320};
+};
+template <>
+struct Steps<LgviYoshida6> {
+  static inline const std::vector<int> free{32, 48, 64, 96, 128}, top{24, 32, 48, 64, 96};
+};
+template <>
+struct Steps<LgviKahanLi6> {
+  static inline const std::vector<int> free{24, 32, 48, 64, 96}, top{16, 24, 32, 48, 64};
+};
+template <>
+struct Steps<LgviYoshida8> {
+  static inline const std::vector<int> free{96, 128, 192, 256}, top{24, 32, 48, 64, 96};
+};
+template <>
+struct Steps<LgviKahanLi8> {
+  static inline const std::vector<int> free{20, 24, 32, 48, 64}, top{10, 12, 16, 20, 24, 32};
+};
+template <>
+struct Steps<LgviSofroniouSpaletta10> {
+  static inline const std::vector<int> free{10, 12, 16, 20, 24}, top{6, 8, 10, 12};
+};
+
+template <template <class> class M, class P>
+double observed_order(const char* label, const P& problem, const State<double>& x0, double T, const State<double>& ref,
+                      const std::vector<int>& ns) {
+  std::vector<double> hs, errors;
+  for (const int n : ns) {
+    M<P> stepper(problem);
+    State<double> x = x0;
+    EXPECT_EQ(integrate_to(stepper, x, 0.0, T / n, T).status, RunStatus::completed);
+    hs.push_back(T / n);
+    errors.push_back(test::state_distance(x, ref));
+    EXPECT_GT(errors.back(), 1e-13) << "error too close to round-off or to the reference's own";
+  }
+  const double p = test::fitted_order(hs, errors);
+  std::printf("%s %s: observed order %.3f, errors %.3e (n = %d) .. %.3e (n = %d)\n", std::string(M<P>::traits.name).c_str(), label, p,
+              errors.front(), ns.front(), errors.back(), ns.back());
+  return p;
+}
+
+template <class C>
+class CompositionTest : public ::testing::Test {};
+template <template <class> class Method>
+struct Tag {
+  template <class P>
+  using type = Method<P>;
+  using steps = Steps<Method>;
+};
+using Compositions = ::testing::Types<Tag<LgviYoshida4>, Tag<LgviSuzuki4>, Tag<LgviYoshida6>, Tag<LgviKahanLi6>,
+                                      Tag<LgviYoshida8>, Tag<LgviKahanLi8>, Tag<LgviSofroniouSpaletta10>>;
+TYPED_TEST_SUITE(CompositionTest, Compositions);
+
+TYPED_TEST(CompositionTest, ObservedOrderOnTheFreeBody) {
+  const SymmetricBody body;
+  const int order = TypeParam::template type<FreeBody<double>>::traits.order;
+  const double p = observed_order<TypeParam::template type>("free body", body.problem(), body.initial(), 4.0,
+                                                            body.exact(4.0), TypeParam::steps::free);
+  EXPECT_NEAR(p, order, 0.2);
+}
+
+TYPED_TEST(CompositionTest, ObservedOrderOnTheSkewHeavyTop) {
+  const auto top = test::skew_heavy_top();
+  const State<double> x0 = test::skew_initial_state();
+  static const State<double> ref = test::reference_solution(top, x0, 2.0, 100000);
+  ASSERT_LT(test::state_distance(ref, test::reference_solution(top, x0, 2.0, 50000)), 1e-15);
+  const int order = TypeParam::template type<HeavyTop<double>>::traits.order;
+  const double p = observed_order<TypeParam::template type>("skew heavy top", top, x0, 2.0, ref, TypeParam::steps::top);
+  EXPECT_NEAR(p, order, 0.2);
+}
+
+// ---- time symmetry -------------------------------------------------------------------------------------
+
+// Ψ_{−h} ∘ Ψ_h = id: one step forward and one back return to the start to round-off (the LGVI's Newton
+// tolerance is 1e-14). CF4, not symmetric, does not (negative control: the same check fails by O(h⁵)).
+template <class S>
+double back_and_forth(double h) {
+  const auto top = test::skew_heavy_top();
+  S stepper(top);
+  const State<double> x0 = test::skew_initial_state();
+  auto y = stepper.to_internal(x0, 0.0);
+  EXPECT_EQ(stepper.step(y, 0.0, h), StepStatus::ok);
+  EXPECT_EQ(stepper.step(y, h, -h), StepStatus::ok);
+  return test::state_distance(stepper.to_state(y), x0);
+}
+
+TYPED_TEST(CompositionTest, StepBackwardsReturnsToTheStart) {
+  using S = typename TypeParam::template type<HeavyTop<double>>;
+  const double d = back_and_forth<S>(0.1);
+  std::printf("%s: |step(-h) o step(h) - id| = %.3e at h = 0.1\n", std::string(S::traits.name).c_str(), d);
+  EXPECT_LT(d, 1e-13);
+}
+
+TEST(CompositionSymmetry, NegativeControlCf4IsNotSymmetric) {
+  const double d = back_and_forth<Cf4<HeavyTop<double>>>(0.1);
+  std::printf("cf4: |step(-h) o step(h) - id| = %.3e at h = 0.1\n", d);
+  EXPECT_GT(d, 1e-8);
+}
+
+// ---- long runs: energy bounded, m·k and R to round-off --------------------------------------------------
+
+struct LongRun {
+  double drift_slope;       // slope of log(max |energy error| in a window) against log t, equal windows
+  double energy;            // largest relative energy error
+  double momentum;          // largest |m·k − m·k(0)| / |m|
+  double orthogonality;     // largest ‖RᵀR − I‖ over the run
+  double orthogonality_1e6; // largest ‖RᵀR − I‖ over the first 10⁶ steps
+};
+
+// n steps of h on the Hairer–Vilmart heavy top, sampled every n/20000 steps. The drift slope fits
+// log max|ΔE| over 64 equal windows of the run (the first left out) against log of the window's middle
+// time: ≈ 0 for a bounded error, → 1 for a linear drift, ≈ 0.5 for a random walk. (Windows of growing
+// length would bias a bounded quasi-periodic error upwards: a longer window sees more extreme phases —
+// measured 0.12–0.15 with doubling windows on runs whose equal-window slope is 0.000.)
+template <template <class> class Method>
+LongRun long_run(double h, std::int64_t n) {
+  const auto problem = HeavyTop<double>::hairer_vilmart();
+  const State<double> x0 = test::hairer_vilmart_state(problem);
+  const double E0 = energy(problem, x0), mk0 = problem.invariants(x0)[0];
+  const double m0 = spatial_momentum(problem.inertia, x0).norm();
+  const double T = h * static_cast<double>(n);
+  constexpr int windows = 64;
+  std::vector<double> window_max(windows, 0.0);
+  LongRun r{0, 0, 0, 0, 0};
+  auto observe = [&](double t, const State<double>& x) {
+    const double e = std::abs(energy(problem, x) - E0) / std::abs(E0);
+    r.energy = std::max(r.energy, e);
+    r.momentum = std::max(r.momentum, std::abs(problem.invariants(x)[0] - mk0) / m0);
+    const double orth = so3::orthogonality_error(x.R);
+    r.orthogonality = std::max(r.orthogonality, orth);
+    if (t <= h * 1e6 * (1 + 1e-12)) r.orthogonality_1e6 = std::max(r.orthogonality_1e6, orth);
+    const int k = std::min(windows - 1, static_cast<int>(t / T * windows));
+    window_max[static_cast<std::size_t>(k)] = std::max(window_max[static_cast<std::size_t>(k)], e);
+  };
+  Method<HeavyTop<double>> stepper(problem);
+  State<double> x = x0;
+  const auto summary = integrate_every(stepper, x, 0.0, h, T, std::max<std::int64_t>(1, n / 20000), observe);
+  EXPECT_EQ(summary.status, RunStatus::completed);
+  std::vector<double> ts, es;
+  for (int k = 1; k < windows; ++k) {
+    ts.push_back((k + 0.5) * T / windows);
+    es.push_back(window_max[static_cast<std::size_t>(k)]);
+  }
+  r.drift_slope = test::fitted_order(ts, es);
+  std::printf("%s %lld steps h=%g (t = %g): energy drift slope %.3f, max rel. energy error %.3e, max m.k error / |m| "
+              "%.3e, max |RtR-I| %.3e (first 1e6 steps %.3e)\n",
+              std::string(Method<HeavyTop<double>>::traits.name).c_str(), static_cast<long long>(n), h, T,
+              r.drift_slope, r.energy, r.momentum, r.orthogonality, r.orthogonality_1e6);
+  return r;
+}
+
+// ‖RᵀR − I‖ ≤ 1e-12 is the bar after 10⁶ steps. Beyond, the departure is a random walk of
+// round-off, ≈ √n ε per base step: the 10⁷-step run (3·10⁷ LGVI steps) is held to √10 times the bar.
+void expect_geometric(const LongRun& r, std::int64_t n) {
+  EXPECT_LT(std::abs(r.drift_slope), 0.1);
+  EXPECT_LE(r.momentum, 1e-12);
+  EXPECT_LE(r.orthogonality_1e6, 1e-12);
+  EXPECT_LE(r.orthogonality, 1e-12 * std::sqrt(std::max(1.0, static_cast<double>(n) / 1e6)));
+}
+
+// 10⁷ steps (the horizon) for the cheapest composition, 10⁶ for Kahan–Li 8 and 3·10⁵ for the
+// 35-stage order-10 set (17·10⁶ and 10.5·10⁶ LGVI steps): the test-time budget. Steps are chosen so that the
+// energy error (1e-9 .. 1e-5) stands far above the round-off random walk (≈ 1e-13 after these runs).
+TEST(CompositionLongRun, Yoshida4TenMillionSteps) {
+  expect_geometric(long_run<LgviYoshida4>(0.02, 10'000'000), 10'000'000);
+}
+TEST(CompositionLongRun, KahanLi8MillionSteps) { expect_geometric(long_run<LgviKahanLi8>(0.1, 1'000'000), 1'000'000); }
+TEST(CompositionLongRun, SofroniouSpaletta10) {
+  expect_geometric(long_run<LgviSofroniouSpaletta10>(0.2, 300'000), 300'000);
+}
+
+// Negative control: CF4 (order 4, not symplectic) over the same kind of run drifts; the slope test flags
+// it and its m·k wanders far above round-off.
+TEST(CompositionLongRun, NegativeControlCf4Drifts) {
+  const LongRun r = long_run<Cf4>(0.05, 1'000'000);
+  EXPECT_GT(r.drift_slope, 0.5);
+  EXPECT_GT(r.momentum, 1e-9);
+  EXPECT_LE(r.orthogonality, 1e-12);
+}
+
+// ---- Jets --------------------------------------------------------------------------------------------
+
+// Derivatives of the state after 25 steps with respect to Ω0 and b, carried by ceres::Jet through every
+// sub-step (the LGVI's Newton solve converges the derivative part too), against central differences.
+TYPED_TEST(CompositionTest, JetDerivativesMatchFiniteDifferences) {
+  using Jet = ceres::Jet<double, 4>;
+  using SJ = typename TypeParam::template type<HeavyTop<Jet>>;
+  using SD = typename TypeParam::template type<HeavyTop<double>>;
+  const auto problem = test::skew_heavy_top();
+  const State<double> x0 = test::skew_initial_state();
+  const double h = 0.04, T = 1.0;
+  auto jet_problem = problem.cast<Jet>();
+  jet_problem.b.v[3] = 1;
+  State<Jet> xj = x0.cast<Jet>();
+  for (int i = 0; i < 3; ++i) xj.Omega[i].v[i] = 1;
+  SJ jet_stepper(jet_problem);
+  ASSERT_EQ(integrate_to(jet_stepper, xj, Jet(0), Jet(h), Jet(T)).status, RunStatus::completed);
+  const auto run = [&](const Vec3<double>& dOmega, double db) {
+    auto p = problem;
+    p.b += db;
+    State<double> x = x0;
+    x.Omega += dOmega;
+    SD stepper(p);
+    integrate_to(stepper, x, 0.0, h, T);
+    return x;
+  };
+  const double eps = 1e-6;
+  for (int j = 0; j < 4; ++j) {
+    const Vec3<double> d = j < 3 ? Vec3<double>(eps * Vec3<double>::Unit(j)) : Vec3<double>::Zero();
+    const double db = j == 3 ? eps : 0.0;
+    const State<double> plus = run(d, db), minus = run(-d, -db);
+    for (int r = 0; r < 3; ++r) {
+      EXPECT_NEAR(xj.Omega[r].v[j], (plus.Omega[r] - minus.Omega[r]) / (2 * eps), 1e-7) << "dΩ" << r << "/dp" << j;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(xj.R(r, c).v[j], (plus.R(r, c) - minus.R(r, c)) / (2 * eps), 1e-7) << "dR/dp" << j;
+    }
+  }
+  ASSERT_TRUE(all_finite(xj.R) && all_finite(xj.Omega));
+  const State<double> plain = run(Vec3<double>::Zero(), 0.0);
+  for (int r = 0; r < 3; ++r) EXPECT_NEAR(xj.Omega[r].a, plain.Omega[r], 1e-13);
+}
+
+}  // namespace
+}  // namespace lgi
