@@ -55,6 +55,7 @@ inline constexpr bool method_applies_v = requires { typename Method<P>; } && Ste
 
 #include "methods_composition.hpp"
 #include "methods_foundation.hpp"
+#include "methods_library.hpp"
 #include "methods_rkmk.hpp"
 #include "methods_splitting.hpp"
 #include "problems_foundation.hpp"
@@ -64,7 +65,7 @@ inline constexpr bool method_applies_v = requires { typename Method<P>; } && Ste
 namespace lgi::app {
 
 using Methods =
-    typename detail::concat<FoundationMethods, RkmkFamilyMethods, SplittingMethods, CompositionMethods>::type;
+    typename detail::concat<FoundationMethods, RkmkFamilyMethods, SplittingMethods, CompositionMethods, LibraryMethods>::type;
 using Problems = typename detail::concat<FoundationProblems, LibraryProblems, PaperProblems>::type;
 using AnyProblem = typename detail::variant_of<Problems>::type;
 

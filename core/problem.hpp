@@ -72,6 +72,24 @@ Vec3<typename P::Scalar> body_torque(const P& p, const typename P::Scalar& t, co
     return p.torque(R);
 }
 
+// Potential and invariants at time t. A time-dependent problem (torque(t, R), e.g. problems/satellite.hpp)
+// may also define potential(t, R) and invariants(t, x), which these prefer; its potential(R) and
+// invariants(x) cannot know the time (the satellite's return NaN). Outputs that know t should use these.
+template <RigidBodyProblem P>
+typename P::Scalar potential_at(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) {
+  if constexpr (requires { p.potential(t, R); })
+    return p.potential(t, R);
+  else
+    return p.potential(R);
+}
+template <RigidBodyProblem P>
+auto invariants_at(const P& p, const typename P::Scalar& t, const State<typename P::Scalar>& x) {
+  if constexpr (requires { p.invariants(t, x); })
+    return p.invariants(t, x);
+  else
+    return p.invariants(x);
+}
+
 // The problem type P re-instantiated on scalar S (e.g. HeavyTop<double> → HeavyTop<Jet>).
 template <class P, class S>
 using rebind_problem_t = decltype(std::declval<const P&>().template cast<S>());
