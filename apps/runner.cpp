@@ -2,6 +2,8 @@
 
 #include <lgi/core/invariants.hpp>
 #include <lgi/core/so3.hpp>
+#include <lgi/integrators/adaptive.hpp>
+#include <lgi/integrators/projection.hpp>
 
 #include <unistd.h>
 
@@ -75,11 +77,31 @@ struct Progress {
   }
 };
 
-template <template <class> class Method, class P>
-RunReport run_with(const P& problem, const Scene& scene, const RunOptions& options) {
+// An adaptive run (the scene gave rtol and atol): output times from the dense output, output.every N as every
+// N accepted steps, dt the initial step. The summary's steps are the accepted ones.
+template <class S, class Observer>
+IntegrationSummary run_adaptive(S& stepper, State<double>& x, const Scene& scene, Observer& observe,
+                                const RunOptions& options) {
+  std::vector<double> times = scene.output_times;
+  if (times.empty() || times.back() < scene.t_end) times.push_back(scene.t_end);
+  AdaptiveOptions adaptive;
+  if (scene.output_times.empty() && scene.output_every > 0) adaptive.every = scene.output_every;
+  Progress monitor{false, 0, options.stop};  // interruption only: there is no step total to show progress against
+  const AdaptiveSummary a =
+      integrate_adaptive(stepper, x, 0.0, scene.dt, std::span<const double>(times), observe, adaptive, monitor);
+  IntegrationSummary summary;
+  summary.status = a.status;
+  summary.step_status = a.step_status;
+  summary.steps = a.accepted;
+  summary.t = a.t;
+  return summary;
+}
+
+// The scene's stepper S: Method<P>, or Projected<Method<P>> when the scene asks for projection.
+template <class S, class P>
+RunReport run_stepper(S& stepper, const P& problem, const Scene& scene, const RunOptions& options) {
   RunReport report;
   report.expected_steps = static_cast<std::int64_t>(std::ceil(scene.t_end / scene.dt - 1e-9));
-  Method<P> stepper(problem, scene.options);
   RowWriter row(options.csv);
   if (options.csv) {
     const std::string h = header_for<P>() + "\n";
@@ -102,7 +124,12 @@ RunReport run_with(const P& problem, const Scene& scene, const RunOptions& optio
   report.energy_initial = energy(problem, x);
   const auto inv0 = problem.invariants(x);
   const auto start = Clock::now();
-  if (!scene.output_times.empty()) {
+  if (scene.options.rtol > 0) {
+    if constexpr (AdaptiveStepper<S>)
+      report.summary = run_adaptive(stepper, x, scene, observe, options);
+    else
+      throw std::logic_error("lgi: rtol given to a method without an embedded pair");
+  } else if (!scene.output_times.empty()) {
     std::vector<double> times = scene.output_times;
     if (times.back() < scene.t_end) times.push_back(scene.t_end);
     report.summary = integrate_times(stepper, x, 0.0, scene.dt, std::span<const double>(times), observe, progress);
@@ -123,6 +150,20 @@ RunReport run_with(const P& problem, const Scene& scene, const RunOptions& optio
   return report;
 }
 
+template <template <class> class Method, class P>
+RunReport run_with(const P& problem, const Scene& scene, const RunOptions& options) {
+  if (scene.options.projection) {
+    if constexpr (ProjectableStepper<Method<P>>) {  // the scene accepts "projection" only where traits list it
+      Projected<Method<P>> stepper(problem, scene.options);
+      return run_stepper(stepper, problem, scene, options);
+    } else {
+      throw std::logic_error("lgi: projection asked of a method that does not take it");
+    }
+  }
+  Method<P> stepper(problem, scene.options);
+  return run_stepper(stepper, problem, scene, options);
+}
+
 template <class P, template <class> class... Ms>
 RunReport dispatch(const P& problem, const Scene& scene, const RunOptions& options, MethodList<Ms...>) {
   RunReport report;
@@ -131,6 +172,98 @@ RunReport dispatch(const P& problem, const Scene& scene, const RunOptions& optio
     if constexpr (method_applies_v<M, P>) {
       if (!found && M<P>::traits.name == scene.method->traits.name) {
         report = run_with<M>(problem, scene, options);
+        found = true;
+      }
+    }
+  };
+  (try_method.template operator()<Ms>(), ...);
+  if (!found) throw std::logic_error("lgi: method registry out of sync");
+  return report;
+}
+
+// The seed paper's Euler-angle top (problems/euler_angle_top.hpp): its state (φ, θ, ψ, φ', θ', m_ψ) is not
+// on SO(3), so it runs on its own path — the scene's RKMK tableau as plain Runge–Kutta on the angles
+// (integrators/euclidean_rk.hpp, apps/problems_paper.hpp) — with the standard columns (R by (6.3), Ω from
+// the angle rates, the total energy) and the problem's own. A step that takes sin θ below min_sin_theta
+// ends the run (status `stopped`, a warning with the time on stderr, the last admissible state kept).
+template <const auto& Tableau>
+RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& scene, const RunOptions& options) {
+  using Vector = EulerAngleTop<double>::Vector;
+  RunReport report;
+  report.expected_steps = static_cast<std::int64_t>(std::ceil(scene.t_end / scene.dt - 1e-9));
+  const EuclideanRk<Tableau, EulerAngleTop<double>> stepper(problem);
+  RowWriter row(options.csv);
+  if (options.csv) {
+    const std::string h = header_for<EulerAngleTop<double>>() + "\n";
+    if (std::fwrite(h.data(), 1, h.size(), options.csv) != h.size()) report.write_failed = true;
+  }
+  auto observe = [&](double t, const Vector& y) {
+    if (!options.csv) return;
+    const State<double> x = problem.to_state(y);
+    row.add(t);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) row.add(x.R(r, c));
+    for (int i = 0; i < 3; ++i) row.add(x.Omega(i));
+    row.add(problem.energy(y));
+    row.add(so3::orthogonality_error(x.R));
+    for (const double v : problem.invariants(y)) row.add(v);
+    row.end_row();
+  };
+  const auto warn = [&](double t, double sin_theta, double t_kept) {
+    std::fprintf(stderr,
+                 "lgi: warning: %s: at t = %s sin(theta) = %.3g < min_sin_theta = %s: the Euler angles are near their "
+                 "coordinate singularity (symmetry axis near the laboratory e3); the run stops at t = %s, the last "
+                 "admissible state (the same motion runs on SO(3) as problem.type heavy_top, or lower "
+                 "/problem/min_sin_theta)\n",
+                 scene.file.c_str(), format_number(t).c_str(), sin_theta, format_number(problem.min_sin_theta).c_str(),
+                 format_number(t_kept).c_str());
+  };
+  constexpr std::array<int, 2> integrals{0, 1};  // momentum_k, momentum_psi (the integrals among the columns)
+  Vector y = problem.from_state(scene.initial);
+  report.energy_initial = problem.energy(y);
+  const auto inv0 = problem.invariants(y);
+  if (!problem.admissible(y)) {
+    report.summary.status = RunStatus::stopped;
+    warn(0.0, std::sin(y[1]), 0.0);
+    report.final_state = scene.initial;
+    report.energy_final = report.energy_initial;
+    return report;
+  }
+  Progress progress{options.progress, report.expected_steps, options.stop};
+  const auto start = Clock::now();
+  EuclideanSummary summary;
+  if (!scene.output_times.empty()) {
+    std::vector<double> times = scene.output_times;
+    if (times.back() < scene.t_end) times.push_back(scene.t_end);
+    summary = integrate_times_euclidean(stepper, y, 0.0, scene.dt, std::span<const double>(times), observe, progress);
+  } else {
+    const std::int64_t every = scene.output_every > 0 ? scene.output_every : std::int64_t{1} << 62;
+    summary = integrate_every_euclidean(stepper, y, 0.0, scene.dt, scene.t_end, every, observe, progress);
+  }
+  report.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  progress.finish();
+  if (summary.left_domain) warn(summary.t_outside, std::sin(y[1]), summary.t);
+  report.summary = summary;
+  report.final_state = problem.to_state(y);
+  report.energy_final = problem.energy(y);
+  const auto inv1 = problem.invariants(y);
+  for (const int i : integrals)
+    report.invariants.push_back({std::string(EulerAngleTop<double>::invariant_names[static_cast<std::size_t>(i)]),
+                                 inv0[static_cast<std::size_t>(i)], inv1[static_cast<std::size_t>(i)]});
+  report.write_failed = report.write_failed || row.failed();
+  return report;
+}
+
+template <template <class> class... Ms>
+RunReport dispatch(const EulerAngleTop<double>& problem, const Scene& scene, const RunOptions& options,
+                   MethodList<Ms...>) {
+  RunReport report;
+  bool found = false;
+  const auto try_method = [&]<template <class> class M>() {
+    if constexpr (method_applies_v<M, EulerAngleTop<double>>) {
+      using Tab = rkmk_tableau<M<FreeBody<double>>>;
+      if (!found && Tab::tableau.name == scene.method->traits.name) {
+        report = run_euler_angles<Tab::tableau>(problem, scene, options);
         found = true;
       }
     }
@@ -160,11 +293,13 @@ std::string csv_header(const Scene& scene) {
 std::string brief_report(const Scene& scene, const RunReport& r) {
   const MethodTraits& m = scene.method->traits;
   const std::string problem = std::visit([](const auto& p) { return std::string(p.name); }, scene.problem);
+  const bool euler_angles = problem == EulerAngleTop<double>::name;  // its own path: RK on the angles
   char buf[512];
   std::string s;
   std::snprintf(buf, sizeof buf, "%s: %s, %s (order %d%s%s), dt = %s\n", scene.file.c_str(), problem.c_str(),
                 std::string(m.name).c_str(), m.order, m.symplectic ? ", symplectic" : "",
-                m.exact_on_group ? ", on SO(3)" : "", format_number(scene.dt).c_str());
+                euler_angles ? ", Runge-Kutta on the Euler angles" : m.exact_on_group ? ", on SO(3)" : "",
+                format_number(scene.dt).c_str());
   s += buf;
   std::snprintf(buf, sizeof buf, "  steps            %lld to t = %s", static_cast<long long>(r.summary.steps),
                 format_number(r.summary.t).c_str());
