@@ -13,6 +13,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -161,19 +163,23 @@ int list_command(bool markdown) {
     }
     return 0;
   }
+  int pw = 4;
+  for (const auto& p : problem_registry()) pw = std::max(pw, static_cast<int>(p.name.size()));
   std::printf("problems (scene \"problem.type\"):\n");
   for (const auto& p : problem_registry()) {
     std::string keys;
     for (const auto& k : p.keys) keys += (keys.empty() ? "" : ", ") + std::string(k);
-    std::printf("  %-12s %s\n  %-12s keys: %s\n", std::string(p.name).c_str(), std::string(p.summary).c_str(), "",
+    std::printf("  %-*s %s\n  %-*s keys: %s\n", pw, std::string(p.name).c_str(), std::string(p.summary).c_str(), pw, "",
                 keys.c_str());
   }
+  int mw = 4;
+  for (const auto& m : method_registry()) mw = std::max(mw, static_cast<int>(m.traits.name.size()));
   std::printf("\nmethods (scene \"integrator.method\"):\n");
-  std::printf("  %-11s %5s  %-10s %-9s %-8s %-10s %-8s %s\n", "name", "order", "symplectic", "symmetric", "explicit",
+  std::printf("  %-*s %5s  %-10s %-9s %-8s %-10s %-8s %s\n", mw, "name", "order", "symplectic", "symmetric", "explicit",
               "R on SO(3)", "momentum", "description");
   for (const auto& m : method_registry()) {
     const auto& t = m.traits;
-    std::printf("  %-11s %5d  %-10s %-9s %-8s %-10s %-8s %s\n", std::string(t.name).c_str(), t.order, yes(t.symplectic),
+    std::printf("  %-*s %5d  %-10s %-9s %-8s %-10s %-8s %s\n", mw, std::string(t.name).c_str(), t.order, yes(t.symplectic),
                 yes(t.symmetric), yes(t.explicit_method), yes(t.exact_on_group), yes(t.preserves_momentum),
                 std::string(t.title).c_str());
   }
