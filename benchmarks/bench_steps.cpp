@@ -12,6 +12,9 @@
 
 #include <lgi/integrators/lgvi.hpp>
 #include <lgi/integrators/rkmk.hpp>
+#include <lgi/integrators/splitting.hpp>
+#include <lgi/integrators/commutator_free.hpp>
+#include <lgi/integrators/composition.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -50,6 +53,19 @@ void add_all(const std::string& problem_name, const P& problem) {
   add<lgi::Lgvi<P>>("lgvi", problem_name, problem);
   add<lgi::Rkmk4<P>>("rkmk4", problem_name, problem);
   add<lgi::LieEuler<P>>("lie_euler", problem_name, problem);
+  add<lgi::SplitAxes<P>>("split_axes", problem_name, problem);
+  add<lgi::SplitDmv<P>>("split_dmv", problem_name, problem);
+  add<lgi::SplitDmv4<P>>("split_dmv4", problem_name, problem);
+  add<lgi::SplitDmv10<P>>("split_dmv10", problem_name, problem);
+  add<lgi::Cf4<P>>("cf4", problem_name, problem);
+  add<lgi::Cg3<P>>("cg3", problem_name, problem);
+  add<lgi::LgviYoshida4<P>>("lgvi_yoshida4", problem_name, problem);
+  add<lgi::LgviSuzuki4<P>>("lgvi_suzuki4", problem_name, problem);
+  add<lgi::LgviYoshida6<P>>("lgvi_yoshida6", problem_name, problem);
+  add<lgi::LgviKahanLi6<P>>("lgvi_kahan_li6", problem_name, problem);
+  add<lgi::LgviYoshida8<P>>("lgvi_yoshida8", problem_name, problem);
+  add<lgi::LgviKahanLi8<P>>("lgvi_kahan_li8", problem_name, problem);
+  add<lgi::LgviSofroniouSpaletta10<P>>("lgvi_sofroniou_spaletta10", problem_name, problem);
 }
 
 }  // namespace

@@ -12,6 +12,9 @@
 
 #include <lgi/integrators/lgvi.hpp>
 #include <lgi/integrators/rkmk.hpp>
+#include <lgi/integrators/splitting.hpp>
+#include <lgi/integrators/commutator_free.hpp>
+#include <lgi/integrators/composition.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -59,6 +62,21 @@ int run_method(std::string_view method, const P& problem, long nsteps) {
   if (method == "lgvi") return run<lgi::Lgvi<P>>(problem, nsteps);
   if (method == "rkmk4") return run<lgi::Rkmk4<P>>(problem, nsteps);
   if (method == "lie_euler") return run<lgi::LieEuler<P>>(problem, nsteps);
+  if (method == "split_axes") return run<lgi::SplitAxes<P>>(problem, nsteps);
+  if (method == "split_dmv") return run<lgi::SplitDmv<P>>(problem, nsteps);
+  if (method == "split_dmv4") return run<lgi::SplitDmv4<P>>(problem, nsteps);
+  if (method == "split_dmv6") return run<lgi::SplitDmv6<P>>(problem, nsteps);
+  if (method == "split_dmv8") return run<lgi::SplitDmv8<P>>(problem, nsteps);
+  if (method == "split_dmv10") return run<lgi::SplitDmv10<P>>(problem, nsteps);
+  if (method == "cf4") return run<lgi::Cf4<P>>(problem, nsteps);
+  if (method == "cg3") return run<lgi::Cg3<P>>(problem, nsteps);
+  if (method == "lgvi_yoshida4") return run<lgi::LgviYoshida4<P>>(problem, nsteps);
+  if (method == "lgvi_suzuki4") return run<lgi::LgviSuzuki4<P>>(problem, nsteps);
+  if (method == "lgvi_yoshida6") return run<lgi::LgviYoshida6<P>>(problem, nsteps);
+  if (method == "lgvi_kahan_li6") return run<lgi::LgviKahanLi6<P>>(problem, nsteps);
+  if (method == "lgvi_yoshida8") return run<lgi::LgviYoshida8<P>>(problem, nsteps);
+  if (method == "lgvi_kahan_li8") return run<lgi::LgviKahanLi8<P>>(problem, nsteps);
+  if (method == "lgvi_sofroniou_spaletta10") return run<lgi::LgviSofroniouSpaletta10<P>>(problem, nsteps);
   if constexpr (std::is_same_v<P, lgi::HeavyTop<double>>)
     if (method == "rk4quat") return run<bench::QuatRk4>(problem, nsteps);
   std::fprintf(stderr, "lgi_step_count: unknown method '%.*s' for this problem\n", static_cast<int>(method.size()),
