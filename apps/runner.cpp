@@ -113,16 +113,16 @@ RunReport run_stepper(S& stepper, const P& problem, const Scene& scene, const Ru
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) row.add(x.R(r, c));
     for (int i = 0; i < 3; ++i) row.add(x.Omega(i));
-    row.add(energy(problem, x));
+    row.add(energy_at(problem, t, x));
     row.add(so3::orthogonality_error(x.R));
-    for (const double v : problem.invariants(x)) row.add(v);
+    for (const double v : invariants_at(problem, t, x)) row.add(v);
     row.end_row();
   };
   Progress progress{options.progress, report.expected_steps, options.stop};
 
   State<double> x = scene.initial;
-  report.energy_initial = energy(problem, x);
-  const auto inv0 = problem.invariants(x);
+  report.energy_initial = energy_at(problem, 0.0, x);
+  const auto inv0 = invariants_at(problem, 0.0, x);
   const auto start = Clock::now();
   if (scene.options.rtol > 0) {
     if constexpr (AdaptiveStepper<S>)
@@ -141,8 +141,8 @@ RunReport run_stepper(S& stepper, const P& problem, const Scene& scene, const Ru
   progress.finish();
 
   report.final_state = x;
-  report.energy_final = energy(problem, x);
-  const auto inv1 = problem.invariants(x);
+  report.energy_final = energy_at(problem, report.summary.t, x);
+  const auto inv1 = invariants_at(problem, report.summary.t, x);
   for (std::size_t i = 0; i < inv0.size(); ++i)
     report.invariants.push_back({std::string(P::invariant_names[i]), inv0[i], inv1[i]});
   if constexpr (requires { stepper.newton_iterations(); }) report.newton_iterations = stepper.newton_iterations();

@@ -24,6 +24,12 @@ typename P::Scalar energy(const P& p, const State<typename P::Scalar>& x) {
   return kinetic_energy(p.inertia, x.Omega) + p.potential(x.R);
 }
 
+// Energy at time t: a time-dependent problem's potential(t, R) where it has one (core/problem.hpp potential_at).
+template <RigidBodyProblem P>
+typename P::Scalar energy_at(const P& p, const typename P::Scalar& t, const State<typename P::Scalar>& x) {
+  return kinetic_energy(p.inertia, x.Omega) + potential_at(p, t, x.R);
+}
+
 template <class T>
 Vec3<T> spatial_momentum(const Mat3<T>& J, const State<T>& x) {
   return x.R * (J * x.Omega);
