@@ -182,6 +182,42 @@ std::vector<BadScene> bad_scenes() {
        "/output/0/0/0", "nesting deeper than 64 levels"},
       {"inertia_tiny_scale", std::string(SceneText{.problem = heavy(R"("inertia": [1e-300, 1e-300, 1e-300], "b": 1)")}),
        "/problem/inertia", "outside [1e-150, 1e150]"},
+      // adaptive steps and projection (integrators/adaptive.hpp, projection.hpp)
+      {"rtol_without_embedded_pair",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk4", "dt": 0.1, "rtol": 1e-8, "atol": 1e-8})"}),
+       "/integrator/rtol", "method rkmk4 has no embedded error estimate"},
+      {"atol_without_embedded_pair",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "lgvi", "dt": 0.1, "atol": 1e-8})"}),
+       "/integrator/atol", "need one of rkmk_dp5, rkmk_dp8"},
+      {"projection_on_symplectic",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "lgvi", "dt": 0.1, "projection": true})"}),
+       "/integrator/projection", "method lgvi is symplectic"},
+      {"projection_not_bool",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk4", "dt": 0.1, "projection": 1})"}),
+       "/integrator/projection", "expected true or false"},
+      {"rtol_zero",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk_dp5", "dt": 0.1, "rtol": 0, "atol": 1e-8})"}),
+       "/integrator/rtol", "must be > 0"},
+      {"atol_negative",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk_dp8", "dt": 0.1, "rtol": 1e-8, "atol": -1e-8})"}),
+       "/integrator/atol", "must be > 0"},
+      {"atol_overflow",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk_dp5", "dt": 0.1, "rtol": 1e-8, "atol": 1e400})"}),
+       "/integrator/atol", "out of the range of a double"},
+      {"rtol_string",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "dop853_quat", "dt": 0.1, "rtol": "1e-8", "atol": 1e-8})"}),
+       "/integrator/rtol", "expected a number"},
+      {"rtol_below_roundoff",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk_dp5", "dt": 0.1, "rtol": 1e-20, "atol": 1e-8})"}),
+       "/integrator/rtol", "10 machine epsilons"},
+      {"rtol_without_atol",
+       std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk_dp5", "dt": 0.1, "rtol": 1e-8})"}),
+       "/integrator", "needs both \"rtol\" and \"atol\""},
+      {"projection_time_dependent_torque",
+       std::string(SceneText{
+           .problem = R"("problem": {"type": "satellite", "inertia": [1, 2, 3], "n": 1, "radial": [1, 0, 0], "normal": [0, 0, 1]})",
+           .integrator = R"("integrator": {"method": "rkmk4", "dt": 0.1, "projection": true})"}),
+       "/integrator/projection", "time-dependent torque"},
   };
 }
 
@@ -379,8 +415,25 @@ TEST_F(Cli, ExampleScenesRun) {
   for (const auto& entry : fs::directory_iterator(LGI_SCENES_DIR)) {
     if (entry.path().extension() != ".json") continue;
     SCOPED_TRACE(entry.path().string());
-    const Result r = lgi("run -q " + entry.path().string() + " -o " + (dir_ / "example.csv").string());
+    const Result r = lgi("run " + entry.path().string() + " -o " + (dir_ / "example.csv").string());
     EXPECT_EQ(r.status, 0) << r.err;
+    // Every column of every row is a finite number, and so is every figure of the summary.
+    std::istringstream csv(slurp(dir_ / "example.csv"));
+    std::string line;
+    std::getline(csv, line);  // header
+    int rows = 0;
+    while (std::getline(csv, line)) {
+      ++rows;
+      std::istringstream fields(line);
+      std::string field;
+      while (std::getline(fields, field, ',')) {
+        char* end = nullptr;
+        const double v = std::strtod(field.c_str(), &end);
+        ASSERT_TRUE(end != field.c_str() && *end == '\0' && std::isfinite(v)) << "row " << rows << ": " << field;
+      }
+    }
+    EXPECT_GE(rows, 2);
+    for (const char* bad : {"nan", "inf"}) EXPECT_EQ(r.err.find(bad), std::string::npos) << r.err;
   }
 }
 
