@@ -152,12 +152,18 @@ int list_command(bool markdown) {
   using lgi::app::method_registry;
   using lgi::app::problem_registry;
   const auto yes = [](bool b) { return b ? "yes" : "no"; };
+  // "2", or "2 (free body 8)" where the method is of higher order on torque-free problems
+  const auto order = [](const lgi::MethodTraits& t) {
+    std::string s = std::to_string(t.order);
+    if (t.free_body_order != 0 && t.free_body_order != t.order) s += " (free body " + std::to_string(t.free_body_order) + ")";
+    return s;
+  };
   if (markdown) {
     std::printf("| method | order | symplectic | symmetric | explicit | R on SO(3) | momentum | description |\n");
     std::printf("|---|---|---|---|---|---|---|---|\n");
     for (const auto& m : method_registry()) {
       const auto& t = m.traits;
-      std::printf("| `%s` | %d | %s | %s | %s | %s | %s | %s |\n", std::string(t.name).c_str(), t.order, yes(t.symplectic),
+      std::printf("| `%s` | %s | %s | %s | %s | %s | %s | %s |\n", std::string(t.name).c_str(), order(t).c_str(), yes(t.symplectic),
                   yes(t.symmetric), yes(t.explicit_method), yes(t.exact_on_group), yes(t.preserves_momentum),
                   std::string(t.title).c_str());
     }
@@ -175,11 +181,13 @@ int list_command(bool markdown) {
   int mw = 4;
   for (const auto& m : method_registry()) mw = std::max(mw, static_cast<int>(m.traits.name.size()));
   std::printf("\nmethods (scene \"integrator.method\"):\n");
-  std::printf("  %-*s %5s  %-10s %-9s %-8s %-10s %-8s %s\n", mw, "name", "order", "symplectic", "symmetric", "explicit",
+  int ow = 5;
+  for (const auto& m : method_registry()) ow = std::max(ow, static_cast<int>(order(m.traits).size()));
+  std::printf("  %-*s %-*s  %-10s %-9s %-8s %-10s %-8s %s\n", mw, "name", ow, "order", "symplectic", "symmetric", "explicit",
               "R on SO(3)", "momentum", "description");
   for (const auto& m : method_registry()) {
     const auto& t = m.traits;
-    std::printf("  %-*s %5d  %-10s %-9s %-8s %-10s %-8s %s\n", mw, std::string(t.name).c_str(), t.order, yes(t.symplectic),
+    std::printf("  %-*s %-*s  %-10s %-9s %-8s %-10s %-8s %s\n", mw, std::string(t.name).c_str(), ow, order(t).c_str(), yes(t.symplectic),
                 yes(t.symmetric), yes(t.explicit_method), yes(t.exact_on_group), yes(t.preserves_momentum),
                 std::string(t.title).c_str());
   }

@@ -1,4 +1,4 @@
-// benchmarks/bench_steps.cpp — ns/step of each lgi integrator (lgvi, rkmk4, lie_euler) on the HV heavy
+// benchmarks/bench_steps.cpp — ns/step of each lgi integrator (those of lgi_step_count --list) on the HV heavy
 // top, a heavy top with non-diagonal J and off-axis z0, and the HV free body (cases: bench_cases.hpp),
 // plus the hand-written quaternion RK4 baseline (rk4quat) on the HV heavy top for the abstraction
 // penalty. Only the step loop is timed: stepper and internal state are built outside it. One benchmark
@@ -15,6 +15,7 @@
 #include <lgi/integrators/splitting.hpp>
 #include <lgi/integrators/commutator_free.hpp>
 #include <lgi/integrators/composition.hpp>
+#include <lgi/integrators/split_exact.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -56,7 +57,10 @@ void add_all(const std::string& problem_name, const P& problem) {
   add<lgi::SplitAxes<P>>("split_axes", problem_name, problem);
   add<lgi::SplitDmv<P>>("split_dmv", problem_name, problem);
   add<lgi::SplitDmv4<P>>("split_dmv4", problem_name, problem);
+  add<lgi::SplitDmv6<P>>("split_dmv6", problem_name, problem);
+  add<lgi::SplitDmv8<P>>("split_dmv8", problem_name, problem);
   add<lgi::SplitDmv10<P>>("split_dmv10", problem_name, problem);
+  add<lgi::SplitExact<P>>("split_exact", problem_name, problem);
   add<lgi::Cf4<P>>("cf4", problem_name, problem);
   add<lgi::Cg3<P>>("cg3", problem_name, problem);
   add<lgi::LgviYoshida4<P>>("lgvi_yoshida4", problem_name, problem);
@@ -66,6 +70,11 @@ void add_all(const std::string& problem_name, const P& problem) {
   add<lgi::LgviYoshida8<P>>("lgvi_yoshida8", problem_name, problem);
   add<lgi::LgviKahanLi8<P>>("lgvi_kahan_li8", problem_name, problem);
   add<lgi::LgviSofroniouSpaletta10<P>>("lgvi_sofroniou_spaletta10", problem_name, problem);
+  add<lgi::SplitDmvYoshida4<P>>("split_dmv_yoshida4", problem_name, problem);
+  add<lgi::SplitDmvSuzuki4<P>>("split_dmv_suzuki4", problem_name, problem);
+  add<lgi::SplitDmvKahanLi6<P>>("split_dmv_kahan_li6", problem_name, problem);
+  add<lgi::SplitDmvKahanLi8<P>>("split_dmv_kahan_li8", problem_name, problem);
+  add<lgi::SplitDmvSofroniouSpaletta10<P>>("split_dmv_sofroniou_spaletta10", problem_name, problem);
 }
 
 }  // namespace

@@ -2,6 +2,9 @@
 # benchmarks/callgrind_steps.sh — callgrind instructions/step of every method × problem of lgi_step_count.
 #
 #   benchmarks/callgrind_steps.sh BUILD_DIR [N1 N2]        (defaults N1 = 1000, N2 = 11000)
+#   PROBLEMS="heavy_top" benchmarks/callgrind_steps.sh BUILD_DIR   (only these problems; default: all three)
+#
+# The methods are every method lgi_step_count knows (`lgi_step_count --list`).
 #
 # Runs BUILD_DIR/benchmarks/lgi_step_count under `valgrind --tool=callgrind` at N1 and N2 steps and
 # prints a markdown table of (Ir(N2) − Ir(N1)) / (N2 − N1): start-up, set-up and printing cancel in
@@ -27,8 +30,9 @@ ir() {
 
 echo "| method | problem | instructions/step | Newton updates/step |"
 echo "|---|---|---:|---:|"
-for method in lgvi rkmk4 lie_euler rk4quat; do
-  for problem in heavy_top heavy_top_tilted free_body; do
+methods=$("$exe" --list)
+for method in $methods; do
+  for problem in ${PROBLEMS:-heavy_top heavy_top_tilted free_body}; do
     [[ $method == rk4quat && $problem != heavy_top ]] && continue
     a=$(ir "$method" "$problem" "$n1")
     b=$(ir "$method" "$problem" "$n2")

@@ -1,8 +1,10 @@
 // benchmarks/lgi_step_count.cpp — a plain program for counting instructions per step under callgrind.
 //
 //   lgi_step_count METHOD PROBLEM NSTEPS
-//     METHOD   lgvi | rkmk4 | lie_euler | rk4quat (hand-written baseline, heavy_top only)
+//     METHOD   one of `lgi_step_count --list` (lgi methods by scene name; rk4quat: the hand-written
+//              baseline, heavy_top only)
 //     PROBLEM  heavy_top | heavy_top_tilted | free_body          (cases: bench_cases.hpp)
+//   lgi_step_count --list      the methods, one per line (benchmarks/callgrind_steps.sh runs them all)
 //
 // Runs NSTEPS steps of h = 0.01 in periods of 1000 from the initial state, exactly as bench_steps times
 // them (same loop, same DoNotOptimize sink), and prints the final state so no work can be elided.
@@ -15,6 +17,7 @@
 #include <lgi/integrators/splitting.hpp>
 #include <lgi/integrators/commutator_free.hpp>
 #include <lgi/integrators/composition.hpp>
+#include <lgi/integrators/split_exact.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -25,6 +28,13 @@
 #include <type_traits>
 
 namespace {
+
+// Every method run_method knows, in its order (--list).
+constexpr const char* method_names[] = {
+    "lgvi", "rkmk4", "lie_euler", "split_axes", "split_dmv", "split_dmv4", "split_dmv6", "split_dmv8", "split_dmv10",
+    "split_exact", "cf4", "cg3", "lgvi_yoshida4", "lgvi_suzuki4", "lgvi_yoshida6", "lgvi_kahan_li6", "lgvi_yoshida8",
+    "lgvi_kahan_li8", "lgvi_sofroniou_spaletta10", "split_dmv_yoshida4", "split_dmv_suzuki4", "split_dmv_kahan_li6",
+    "split_dmv_kahan_li8", "split_dmv_sofroniou_spaletta10", "rk4quat"};
 
 void print(const lgi::State<double>& y) {
   std::printf("R = [%.17g %.17g %.17g; %.17g %.17g %.17g; %.17g %.17g %.17g]\nOmega = [%.17g %.17g %.17g]\n",
@@ -68,6 +78,7 @@ int run_method(std::string_view method, const P& problem, long nsteps) {
   if (method == "split_dmv6") return run<lgi::SplitDmv6<P>>(problem, nsteps);
   if (method == "split_dmv8") return run<lgi::SplitDmv8<P>>(problem, nsteps);
   if (method == "split_dmv10") return run<lgi::SplitDmv10<P>>(problem, nsteps);
+  if (method == "split_exact") return run<lgi::SplitExact<P>>(problem, nsteps);
   if (method == "cf4") return run<lgi::Cf4<P>>(problem, nsteps);
   if (method == "cg3") return run<lgi::Cg3<P>>(problem, nsteps);
   if (method == "lgvi_yoshida4") return run<lgi::LgviYoshida4<P>>(problem, nsteps);
@@ -77,6 +88,11 @@ int run_method(std::string_view method, const P& problem, long nsteps) {
   if (method == "lgvi_yoshida8") return run<lgi::LgviYoshida8<P>>(problem, nsteps);
   if (method == "lgvi_kahan_li8") return run<lgi::LgviKahanLi8<P>>(problem, nsteps);
   if (method == "lgvi_sofroniou_spaletta10") return run<lgi::LgviSofroniouSpaletta10<P>>(problem, nsteps);
+  if (method == "split_dmv_yoshida4") return run<lgi::SplitDmvYoshida4<P>>(problem, nsteps);
+  if (method == "split_dmv_suzuki4") return run<lgi::SplitDmvSuzuki4<P>>(problem, nsteps);
+  if (method == "split_dmv_kahan_li6") return run<lgi::SplitDmvKahanLi6<P>>(problem, nsteps);
+  if (method == "split_dmv_kahan_li8") return run<lgi::SplitDmvKahanLi8<P>>(problem, nsteps);
+  if (method == "split_dmv_sofroniou_spaletta10") return run<lgi::SplitDmvSofroniouSpaletta10<P>>(problem, nsteps);
   if constexpr (std::is_same_v<P, lgi::HeavyTop<double>>)
     if (method == "rk4quat") return run<bench::QuatRk4>(problem, nsteps);
   std::fprintf(stderr, "lgi_step_count: unknown method '%.*s' for this problem\n", static_cast<int>(method.size()),
@@ -87,8 +103,12 @@ int run_method(std::string_view method, const P& problem, long nsteps) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 2 && std::string_view(argv[1]) == "--list") {
+    for (const char* name : method_names) std::printf("%s\n", name);
+    return 0;
+  }
   if (argc != 4) {
-    std::fprintf(stderr, "usage: lgi_step_count lgvi|rkmk4|lie_euler|rk4quat heavy_top|heavy_top_tilted|free_body NSTEPS\n");
+    std::fprintf(stderr, "usage: lgi_step_count METHOD heavy_top|heavy_top_tilted|free_body NSTEPS (METHOD: see --list)\n");
     return 2;
   }
   const std::string_view method = argv[1], problem = argv[2];

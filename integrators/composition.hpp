@@ -36,6 +36,7 @@
 #include "../core/problem.hpp"
 #include "../core/state.hpp"
 #include "lgvi.hpp"
+#include "splitting.hpp"
 
 #include <array>
 #include <cstddef>
@@ -177,6 +178,9 @@ class Composition {
   using B = Base<P>;
   static_assert(B::traits.order == 2 && B::traits.symmetric,
                 "lgi::Composition: the base method must be symmetric and of order 2");
+  // A base of higher order on the free body (preprocessed DMV) would need coefficient sets that respect
+  // its free-body order; none is provided.
+  static_assert(B::traits.free_body_order == 0, "lgi::Composition: the base must be of order 2 on every problem");
 
   static constexpr std::string_view base_name = B::traits.name;
   static constexpr auto name_ = detail::join<base_name.size() + 1 + C.name.size()>(base_name, "_", C.name);
@@ -260,5 +264,19 @@ template <RigidBodyProblem P>
 using LgviKahanLi8 = Composition<compositions::kahan_li8, Lgvi, P>;
 template <RigidBodyProblem P>
 using LgviSofroniouSpaletta10 = Composition<compositions::sofroniou_spaletta10, Lgvi, P>;
+
+// Compositions of kick + DMV (splitting.hpp; scene names split_dmv_<coefficients>): the same maps as the
+// LGVI's compositions (kick + DMV is the LGVI's map, NUMERICS.md), at the cost of the fast fixed-point
+// DMV step in principal axes (benchmarks/callgrind_steps.sh) — the cheap high-order heavy-top methods.
+template <RigidBodyProblem P>
+using SplitDmvYoshida4 = Composition<compositions::yoshida4, SplitDmv, P>;
+template <RigidBodyProblem P>
+using SplitDmvSuzuki4 = Composition<compositions::suzuki4, SplitDmv, P>;
+template <RigidBodyProblem P>
+using SplitDmvKahanLi6 = Composition<compositions::kahan_li6, SplitDmv, P>;
+template <RigidBodyProblem P>
+using SplitDmvKahanLi8 = Composition<compositions::kahan_li8, SplitDmv, P>;
+template <RigidBodyProblem P>
+using SplitDmvSofroniouSpaletta10 = Composition<compositions::sofroniou_spaletta10, SplitDmv, P>;
 
 }  // namespace lgi

@@ -31,13 +31,20 @@
 //     body frame, lgvi.hpp: G(c) = Jc + c × Jc − ½ α hΠ = 0), then q ← q ⊗ p, Π ← R(p)ᵀ Π (written
 //     Π + (2/α)(c × (c × Π) − c × Π), so m = R Π is kept for any c, converged or not). The fixed point
 //     (Gauss–Seidel sweeps from Hairer's explicit predictor, two per convergence test) contracts by
-//     ≈ |c|·max|I_j − I_k|/I_i per sweep (4 sweeps at h|Ω| = 0.03); where it stalls (worse than ¼ per
-//     sweep, large h|Ω|) Newton on G takes over from the last iterate (dmv_newton_update, Cramer's rule;
-//     the same equation and Jacobian as the LGVI's, written for principal axes). Order 2, symmetric,
+//     ≈ |c|·max|I_j − I_k|/I_i per sweep and runs until c is exact to round-off (4 sweeps at h|Ω| = 0.03;
+//     a solve stopped at a relative tolerance makes step(h) and step(−h) inverse only to that tolerance,
+//     see dmv_solve); where it stalls (worse than ¼ per sweep, large h|Ω|) Newton on G takes over from
+//     the last iterate (dmv_newton_update, Cramer's rule; the same equation and Jacobian as the LGVI's,
+//     written for principal axes). Order 2, symmetric,
 //     symplectic; for a steady rotation about a principal axis it advances asin(h|Ω|) instead of h|Ω|
 //     (McLachlan & Zanna, Found. Comput. Math. 5 (2005) 87). The equation has no solution once h|Π|
 //     exceeds about max I (on a principal axis: h|Ω| > 1); the flow then takes ⌈h|Π|/min I⌉ substeps
-//     (dmv_substeps), so it stays finite and bounded at any step (h|Ω| = 3: tests/test_dmv.cpp).
+//     (dmv_substeps), so it stays finite and bounded at any step (h|Ω| = 3: tests/test_dmv.cpp; there the
+//     substeps are what keep it finite — the plain fixed point converges at the substep size too, Newton
+//     only in fewer iterations).
+//     Cost on the Hairer–Vilmart heavy top (h = 0.01, benchmarks/callgrind_steps.sh): ≈ 530 instructions
+//     a kick + DMV step, of which ≈ 150 the four sweeps and two convergence tests, ≈ 150 the quaternion and
+//     momentum updates (increments, renormalisation folded in), ≈ 60 the torque (Γ rotated out of q).
 //
 // (c) PreprocessedDmv<r> — Hairer & Vilmart, J. Phys. A 39 (2006) 13225: DMV applied with modified
 //     inverse moments 1/Ĩ_i = σ/I_i + δ, where σ = 1 + Σ_k s_k(η, χ), δ = Σ_k d_k(η, χ) are polynomials
@@ -48,8 +55,10 @@
 //     could not read the paper itself, so we cite no equation number for them. They are checked here by
 //     the measured orders 4, 6, 8, 10 on the free body (tests/test_dmv.cpp, in long double against a
 //     long-double reference). DMV preserves |Π| and H exactly, so Ĩ is the same computed from the start
-//     or the end of the step: the method stays symmetric. It is not claimed symplectic (Ĩ depends on
-//     the state through H and |Π|; not verified). m and |Π| are kept to round-off.
+//     or the end of the step: the method stays symmetric. It is not claimed symplectic: Ĩ depends on the
+//     state through H and |Π|, and whether the paper proves the map symplectic could not be checked (the
+//     paper's text was not available to us; the authors' Fortran code says nothing on it), so the trait
+//     stays false. m and |Π| are kept to round-off.
 //
 // Non-diagonal J: PrincipalAxes diagonalises it once. For double it is Eigen's symmetric eigensolver;
 // for ceres::Jet the value part is diagonalised in double and the derivative parts follow by first-order
@@ -315,25 +324,36 @@ struct DmvCounters {
 };
 
 // Solves c_i = α w_i + r_i c_j c_k (r_i = (I_j − I_k)/I_i = −d_i/I_i) for c; see the header.
+//
+// Accuracy: the solution is wanted to round-off, not to a tolerance. c enters the state as an increment
+// of the unit quaternion, so an error δc moves the state by ≈ 2|δc| (and Π by ≈ 2|Π||δc|): the sweeps stop
+// when the remaining error is predicted below ε/4 (ε of the value type; or below tolerance·|w| where that
+// is smaller, at tiny steps). Stopping at a relative tolerance instead leaves a solution error that is not
+// the same for the step h and its reverse −h, and the step is then symmetric only to that error: measured
+// 4e-14 for step(h) ∘ step(−h) on the skew top at h = 0.1 with tolerance 1e-14, against 4e-16 now
+// (tests/test_splitting.cpp, StepThenReverseStepIsIdentity).
 template <class T>
 StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& I, const Vec3<T>& inv_I, const Vec3<T>& r,
                      const Vec3<T>& d, const StepperOptions& options, Vec3<T>& c, DmvCounters& counters) {
+  using V = value_type_t<T>;
   const T half_h = T(0.5) * h;
   const T w0 = half_h * Pi(0) * inv_I(0), w1 = half_h * Pi(1) * inv_I(1), w2 = half_h * Pi(2) * inv_I(2);
   // Hairer's explicit predictor (error O(|w|³)).
   T c0 = w0 + r(0) * w1 * w2;
   T c1 = w1 + r(1) * c0 * w2;
   T c2 = w2 + r(2) * c0 * c1;
-  // Gauss–Seidel sweeps, two per convergence test (the test costs as much as a sweep). Converged when
-  // the second update u (2-norm) is below tol·|w|₁, or when the next one would be (u² / u_prev, the
-  // update times the observed contraction); stalled (→ Newton) when the contraction over the pair is
-  // worse than 1/16, or on NaN/overflow. Squared norms: no fabs or sqrt in the loop.
+  // Gauss–Seidel sweeps, two per convergence test (the test costs as much as a sweep). With U the squared
+  // update of a pair's second sweep and L that of the pair before (two sweeps earlier), the contraction
+  // per sweep is ρ = (U/L)^(1/4) and the error left after the pair ≈ ρ·√U, so converged when
+  // U·√(U/L) ≤ target², i.e. U³ ≤ target⁴·L (or U ≤ target² at the first pair); stalled (→ Newton) when
+  // the contraction is worse than 1/4 per sweep (U > L/256), or on NaN/overflow. No fabs or sqrt here.
   constexpr int max_pairs = 6;
-  const double tol = options.tolerance;
-  const double wscale =
-      static_cast<double>(std::abs(value_of(w0)) + std::abs(value_of(w1)) + std::abs(value_of(w2)));
-  const double tol2 = (tol * wscale) * (tol * wscale);
-  double last2 = 0;
+  const V tol = static_cast<V>(options.tolerance);
+  const V wv0 = static_cast<V>(value_of(w0)), wv1 = static_cast<V>(value_of(w1)), wv2 = static_cast<V>(value_of(w2));
+  const V round_off = V(0.25) * epsilon_v<T>;
+  const V target2 = std::min(tol * tol * (wv0 * wv0 + wv1 * wv1 + wv2 * wv2), round_off * round_off);
+  const V target4 = target2 * target2;
+  V last2 = 0;
   bool stalled = true;
   for (int k = 0; k < max_pairs; ++k) {
     const T a = T(1) + (c0 * c0 + c1 * c1 + c2 * c2);
@@ -345,14 +365,14 @@ StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& I, const Vec3
     const T n1 = b * w1 + r(1) * n0 * c2;
     const T n2 = b * w2 + r(2) * n0 * n1;
     counters.sweeps += 2;
-    const double d0 = static_cast<double>(value_of(n0 - c0)), d1 = static_cast<double>(value_of(n1 - c1)),
-                 d2 = static_cast<double>(value_of(n2 - c2));
-    const double upd2 = d0 * d0 + d1 * d1 + d2 * d2;
-    if (!(upd2 <= (k > 0 ? 0.00390625 * last2 : 1e300))) break;  // contraction worse than 1/16 per sweep, NaN
+    const V d0 = static_cast<V>(value_of(n0 - c0)), d1 = static_cast<V>(value_of(n1 - c1)),
+            d2 = static_cast<V>(value_of(n2 - c2));
+    const V upd2 = d0 * d0 + d1 * d1 + d2 * d2;
+    if (!(upd2 <= (k > 0 ? V(0.00390625) * last2 : V(1e300)))) break;  // worse than 1/4 per sweep, NaN
     c0 = n0;
     c1 = n1;
     c2 = n2;
-    if (upd2 <= tol2 || upd2 * upd2 <= tol2 * last2) {
+    if (upd2 <= target2 || upd2 * upd2 * upd2 <= target4 * last2) {
       stalled = false;
       break;
     }
@@ -363,7 +383,7 @@ StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& I, const Vec3
     ++counters.fallbacks;
     if (!all_finite(c)) c = Vec3<T>(w0, w1, w2);
     const Vec3<T> half_mu = half_h * Pi;
-    const double floor = std::max(tol, 16 * static_cast<double>(epsilon_v<T>));
+    const double floor = std::max(static_cast<double>(tol), 16 * static_cast<double>(epsilon_v<T>));
     bool converged = false;
     for (int it = 0; it < options.max_iterations; ++it) {
       const Vec3<T> delta = dmv_newton_update(c, I, d, half_mu);
@@ -427,9 +447,12 @@ void dmv_apply(const Vec3<T>& c, Quaternion<T>& q, Vec3<T>& Pi) {
 // and this is plain DMV.
 template <class T>
 int dmv_substeps(const Vec3<T>& Pi, const T& h, double min_I) {
-  const double x = std::abs(static_cast<double>(value_of(h))) * std::sqrt(static_cast<double>(value_of(Pi.squaredNorm()))) / min_I;
-  if (!(x <= 1)) return x < 1e6 ? static_cast<int>(std::ceil(x)) : 1000000;
-  return 1;
+  const double hv = static_cast<double>(value_of(h));
+  const double x2 = hv * hv * static_cast<double>(value_of(Pi.squaredNorm()));  // (h|Π|)², no root on the fast path
+  if (x2 <= min_I * min_I) [[likely]]
+    return 1;
+  const double x = std::sqrt(x2) / min_I;
+  return x < 1e6 ? static_cast<int>(std::ceil(x)) : 1000000;  // NaN: 1000000, and the solve reports it
 }
 
 template <class T>

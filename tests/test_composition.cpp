@@ -1,6 +1,7 @@
-// Symmetric compositions of the LGVI, measured: the coefficient sets (symmetric, Σγ = 1, the odd-power
-// order conditions Σγ^(2k+1) = 0), observed orders 4–10 on a free symmetric body (exact solution) and on
-// the skew heavy top (long-double reference), time symmetry (step(h) then step(−h) returns), energy
+// Symmetric compositions of the LGVI and of kick + DMV, measured: the coefficient sets (symmetric, Σγ = 1,
+// the odd-power order conditions Σγ^(2k+1) = 0), observed orders 4–10 on a free symmetric body (exact
+// solution) and on the skew heavy top (long-double reference; orders 8 and 10 of kick + DMV also in long
+// double), the two bases' compositions the same maps, time symmetry (step(h) then step(−h) returns), energy
 // bounded over long runs with m·k and R on SO(3) to round-off (and a non-symplectic negative control that
 // the same test flags), Jets against finite differences.
 #include "test_problems.hpp"
@@ -75,6 +76,115 @@ TEST(CompositionCoefficients, TraitsComeFromBaseAndCoefficients) {
   EXPECT_EQ(LgviSofroniouSpaletta10<FreeBody<double>>::traits.name, "lgvi_sofroniou_spaletta10");
   EXPECT_NE(S::traits.reference.find("Kahan"), std::string_view::npos);
   static_assert(Stepper<LgviYoshida4<HeavyTop<double>>>);
+  using D = SplitDmvSofroniouSpaletta10<HeavyTop<double>>;
+  EXPECT_EQ(D::traits.name, "split_dmv_sofroniou_spaletta10");
+  EXPECT_EQ(D::traits.order, 10);
+  EXPECT_EQ(D::traits.free_body_order, 0);
+  EXPECT_TRUE(D::traits.symplectic && D::traits.symmetric && D::traits.exact_on_group && D::traits.preserves_momentum);
+  EXPECT_EQ(SplitDmvYoshida4<FreeBody<double>>::traits.order, 4);
+}
+
+// ---- compositions of kick + DMV -------------------------------------------------------------------------
+
+// Kick + DMV and the LGVI are one map (NUMERICS.md), so their compositions agree to round-off (different
+// solvers, coordinates and rounding: principal axes, quaternion, fixed point vs body frame, matrix, Newton).
+TEST(SplitDmvCompositions, SameMapsAsTheLgviCompositions) {
+  const auto top = test::skew_heavy_top();
+  const State<double> x0 = test::skew_initial_state();
+  const auto distance_after = [&]<class A, class B>(A a, B b) {
+    State<double> xa = x0, xb = x0;
+    EXPECT_EQ(integrate_to(a, xa, 0.0, 0.05, 5.0).status, RunStatus::completed);
+    EXPECT_EQ(integrate_to(b, xb, 0.0, 0.05, 5.0).status, RunStatus::completed);
+    return test::state_distance(xa, xb);
+  };
+  const double d4 = distance_after(SplitDmvYoshida4<HeavyTop<double>>(top), LgviYoshida4<HeavyTop<double>>(top));
+  const double d8 = distance_after(SplitDmvKahanLi8<HeavyTop<double>>(top), LgviKahanLi8<HeavyTop<double>>(top));
+  const double d10 = distance_after(SplitDmvSofroniouSpaletta10<HeavyTop<double>>(top),
+                                    LgviSofroniouSpaletta10<HeavyTop<double>>(top));
+  std::printf("split_dmv_* vs lgvi_* after 100 steps of h = 0.05: yoshida4 %.2e, kahan_li8 %.2e, "
+              "sofroniou_spaletta10 %.2e\n", d4, d8, d10);
+  EXPECT_LT(d4, 1e-13);
+  EXPECT_LT(d8, 1e-13);
+  EXPECT_LT(d10, 1e-13);
+}
+
+// Orders 8 and 10 in long double (the problems cast to long double: every method is a template on the
+// scalar), against a long-double reference far below the errors fitted: classical RK4 on the embedding
+// (all nine entries of R and Ω, a different method and coordinates), Richardson-extrapolated from 20000 and
+// 40000 steps over T = 2; its error is estimated by the same construction from 40000 and 80000 steps and
+// printed. On the skew heavy top (non-diagonal J) and on the Hairer–Vilmart free body. In double the errors
+// of these methods reach round-off within three or four points.
+using L = long double;
+template <class P>
+State<L> rk4_richardson_ld(const P& p, const State<L>& x0, L T, int n) {
+  const auto rk4 = [&](int steps) {
+    const Mat3<L> J = p.inertia, J_inv = J.inverse();
+    struct Y {
+      Mat3<L> R;
+      Vec3<L> W;
+    };
+    const auto f = [&](const Y& y) {
+      return Y{y.R * so3::hat(y.W), J_inv * Vec3<L>((J * y.W).cross(y.W) + body_torque(p, L(0), y.R))};
+    };
+    const auto axpy = [](const Y& y, L a, const Y& k) { return Y{y.R + a * k.R, y.W + a * k.W}; };
+    Y y{x0.R, x0.Omega};
+    const L h = T / steps;
+    for (int i = 0; i < steps; ++i) {
+      const Y k1 = f(y), k2 = f(axpy(y, h / 2, k1)), k3 = f(axpy(y, h / 2, k2)), k4 = f(axpy(y, h, k3));
+      y.R += (h / 6) * (k1.R + 2 * k2.R + 2 * k3.R + k4.R);
+      y.W += (h / 6) * (k1.W + 2 * k2.W + 2 * k3.W + k4.W);
+    }
+    return State<L>{y.R, y.W};
+  };
+  const State<L> a = rk4(n), b = rk4(2 * n);
+  return {(16 * b.R - a.R) / 15, (16 * b.Omega - a.Omega) / 15};
+}
+double distance_ld(const State<L>& a, const State<L>& b) {
+  return static_cast<double>((a.R - b.R).norm() + (a.Omega - b.Omega).norm());
+}
+
+template <template <class> class M, class P>
+double observed_order_ld(const char* label, const P& problem, const State<double>& x0_d, const std::vector<int>& ns) {
+  using PL = rebind_problem_t<P, L>;
+  const PL p = problem.template cast<L>();
+  const State<L> x0 = x0_d.cast<L>();
+  const L T = 2;
+  const State<L> ref = rk4_richardson_ld(p, x0, T, 20000);
+  const double ref_error = distance_ld(ref, rk4_richardson_ld(p, x0, T, 40000));
+  EXPECT_LT(ref_error, 1e-16);
+  std::vector<double> hs, errors;
+  for (const int n : ns) {
+    M<PL> stepper(p);
+    State<L> x = x0;
+    EXPECT_EQ(integrate_to(stepper, x, L(0), T / n, T).status, RunStatus::completed);
+    hs.push_back(static_cast<double>(T / n));
+    errors.push_back(distance_ld(x, ref));
+    EXPECT_GT(errors.back(), 1e3 * ref_error) << "error too close to the reference's own";
+  }
+  const double order = test::fitted_order(hs, errors);
+  std::printf("%s %s (long double): observed order %.3f, errors %.3e (n = %d) .. %.3e (n = %d), reference error "
+              "%.1e\n",
+              std::string(M<PL>::traits.name).c_str(), label, order, errors.front(), ns.front(), errors.back(),
+              ns.back(), ref_error);
+  return order;
+}
+
+TEST(SplitDmvCompositions, OrdersEightAndTenInLongDouble) {
+  const auto top = test::skew_heavy_top();
+  const auto body = FreeBody<double>::hairer_vilmart();
+  // Step counts in the asymptotic range (|Ω(0)| = 1.4 on the skew top, 3.3 on the free body)
+  // with every error above 1e3 times the reference's.
+  const std::vector<int> n8_top{10, 12, 16, 20, 24, 32}, n10_top{6, 7, 8, 10, 12};
+  const std::vector<int> n8_free{24, 32, 40, 48, 64, 80}, n10_free{12, 14, 16, 20, 24};
+  EXPECT_NEAR(observed_order_ld<SplitDmvKahanLi8>("skew heavy top", top, test::skew_initial_state(), n8_top), 8.0, 0.2);
+  EXPECT_NEAR(
+      observed_order_ld<SplitDmvSofroniouSpaletta10>("skew heavy top", top, test::skew_initial_state(), n10_top), 10.0,
+      0.2);
+  EXPECT_NEAR(observed_order_ld<SplitDmvKahanLi8>("free body", body, test::hairer_vilmart_state(body), n8_free), 8.0,
+              0.2);
+  EXPECT_NEAR(
+      observed_order_ld<SplitDmvSofroniouSpaletta10>("free body", body, test::hairer_vilmart_state(body), n10_free),
+      10.0, 0.2);
 }
 
 // ---- observed orders ---------------------------------------------------------------------------------
@@ -91,7 +201,6 @@ struct SymmetricBody {
   }
   State<double> initial() const { return {so3::exp(Vec3<double>(0.2, 0.1, -0.4)), Vec3<double>(0.9, -0.5, 1.2)}; }
   State<double> exact(double t_) const {
-    using L = long double;
     const Mat3<L> q = Q.cast<L>();
     const State<double> x0 = initial();
     const Vec3<L> w = q.transpose() * x0.Omega.cast<L>();
@@ -138,6 +247,17 @@ template <>
 struct Steps<LgviSofroniouSpaletta10> {
   static inline const std::vector<int> free{10, 12, 16, 20, 24}, top{6, 8, 10, 12};
 };
+// Kick + DMV is the LGVI's map: its compositions take the same step counts.
+template <>
+struct Steps<SplitDmvYoshida4> : Steps<LgviYoshida4> {};
+template <>
+struct Steps<SplitDmvSuzuki4> : Steps<LgviSuzuki4> {};
+template <>
+struct Steps<SplitDmvKahanLi6> : Steps<LgviKahanLi6> {};
+template <>
+struct Steps<SplitDmvKahanLi8> : Steps<LgviKahanLi8> {};
+template <>
+struct Steps<SplitDmvSofroniouSpaletta10> : Steps<LgviSofroniouSpaletta10> {};
 
 template <template <class> class M, class P>
 double observed_order(const char* label, const P& problem, const State<double>& x0, double T, const State<double>& ref,
@@ -166,7 +286,9 @@ struct Tag {
   using steps = Steps<Method>;
 };
 using Compositions = ::testing::Types<Tag<LgviYoshida4>, Tag<LgviSuzuki4>, Tag<LgviYoshida6>, Tag<LgviKahanLi6>,
-                                      Tag<LgviYoshida8>, Tag<LgviKahanLi8>, Tag<LgviSofroniouSpaletta10>>;
+                                      Tag<LgviYoshida8>, Tag<LgviKahanLi8>, Tag<LgviSofroniouSpaletta10>,
+                                      Tag<SplitDmvYoshida4>, Tag<SplitDmvSuzuki4>, Tag<SplitDmvKahanLi6>,
+                                      Tag<SplitDmvKahanLi8>, Tag<SplitDmvSofroniouSpaletta10>>;
 TYPED_TEST_SUITE(CompositionTest, Compositions);
 
 TYPED_TEST(CompositionTest, ObservedOrderOnTheFreeBody) {
@@ -281,6 +403,9 @@ void expect_geometric(const LongRun& r, std::int64_t n) {
 // energy error (1e-9 .. 1e-5) stands far above the round-off random walk (≈ 1e-13 after these runs).
 TEST(CompositionLongRun, Yoshida4TenMillionSteps) {
   expect_geometric(long_run<LgviYoshida4>(0.02, 10'000'000), 10'000'000);
+}
+TEST(CompositionLongRun, SplitDmvYoshida4TenMillionSteps) {
+  expect_geometric(long_run<SplitDmvYoshida4>(0.02, 10'000'000), 10'000'000);
 }
 TEST(CompositionLongRun, KahanLi8MillionSteps) { expect_geometric(long_run<LgviKahanLi8>(0.1, 1'000'000), 1'000'000); }
 TEST(CompositionLongRun, SofroniouSpaletta10) {

@@ -147,6 +147,11 @@ TEST(NoAllocation, CommutatorFreeAndCompositions) {
   expect_no_allocation<LgviKahanLi8>(top, x0);
   expect_no_allocation<LgviSofroniouSpaletta10>(top, x0);
   expect_no_allocation<LgviSuzuki4>(body, x0);
+  expect_no_allocation<SplitDmvYoshida4>(top, x0);
+  expect_no_allocation<SplitDmvSuzuki4>(body, x0);
+  expect_no_allocation<SplitDmvKahanLi6>(top, x0);
+  expect_no_allocation<SplitDmvKahanLi8>(top, x0);
+  expect_no_allocation<SplitDmvSofroniouSpaletta10>(top, x0);
 }
 
 // Splittings: kicks + axis rotations / DMV / preprocessed DMV (integrators/splitting.hpp), diagonal and

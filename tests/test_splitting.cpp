@@ -41,6 +41,7 @@ double observed_order(const P& problem, const State<double>& x0, std::vector<dou
   const State<double> ref = test::reference_solution(problem, x0, T, 40000);
   const double ref_error = test::state_distance(ref, test::reference_solution(problem, x0, T, 20000));
   EXPECT_LT(ref_error, 1e-14);
+  std::printf("  (reference: long-double RK4 on the embedding, 40000 steps, differs from 20000 steps by %.1e)\n", ref_error);
   std::vector<double> hs, errors;
   for (int n = 50; n <= 800; n *= 2) {
     S stepper(problem);
@@ -70,6 +71,7 @@ TYPED_TEST(SplittingOrder, FreeBodyAndSkewHeavyTop) {
   const double p_free = observed_order<SF>(body, x0, &e);
   std::printf("%s free body (non-diagonal J): observed order %.3f, errors %.3e .. %.3e\n", SF::traits.name.data(),
               p_free, e.front(), e.back());
+  static_assert(SF::traits.free_body_order == 0);  // of order 2 on the free body too
   EXPECT_NEAR(p_free, SF::traits.order, 0.2);
 }
 
@@ -191,7 +193,10 @@ TEST(Splitting, StepThenReverseStepIsIdentity) {
   std::printf("step(h) then step(-h), distance to the start: axes %.1e, dmv %.1e, dmv4 %.1e, dmv10 %.1e, exact %.1e; "
               "h|Omega| = 3: dmv %.1e, dmv10 %.1e\n",
               e[0], e[1], e[2], e[3], e[4], e[5], e[6]);
-  for (const double d : e) EXPECT_LT(d, 1e-13);
+  // Round-off: the DMV solve is converged to round-off, not to a tolerance (free_body_flows.hpp, dmv_solve;
+  // stopping at the relative tolerance 1e-14 left 4e-14 here for kick + DMV).
+  for (int i = 0; i < 5; ++i) EXPECT_LT(e[i], 2e-15) << i;
+  for (int i = 5; i < 7; ++i) EXPECT_LT(e[i], 1e-13) << i;
   // Negative control: a non-symmetric method does not come back (RKMK4: O(h⁵) per step).
   Rkmk4<HeavyTop<double>> rk(top);
   State<double> x = x0;
