@@ -12,29 +12,18 @@
 // (Ir(N2) − Ir(N1)) / (N2 − N1).
 #include "bench_cases.hpp"
 
-#include <lgi/integrators/lgvi.hpp>
-#include <lgi/integrators/rkmk.hpp>
-#include <lgi/integrators/splitting.hpp>
-#include <lgi/integrators/commutator_free.hpp>
-#include <lgi/integrators/composition.hpp>
-#include <lgi/integrators/split_exact.hpp>
+#include "registry.hpp"  // apps/: every method lgi knows (lgi::app::Methods)
 
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <string_view>
 #include <type_traits>
 
 namespace {
-
-// Every method run_method knows, in its order (--list).
-constexpr const char* method_names[] = {
-    "lgvi", "rkmk4", "lie_euler", "split_axes", "split_dmv", "split_dmv4", "split_dmv6", "split_dmv8", "split_dmv10",
-    "split_exact", "cf4", "cg3", "lgvi_yoshida4", "lgvi_suzuki4", "lgvi_yoshida6", "lgvi_kahan_li6", "lgvi_yoshida8",
-    "lgvi_kahan_li8", "lgvi_sofroniou_spaletta10", "split_dmv_yoshida4", "split_dmv_suzuki4", "split_dmv_kahan_li6",
-    "split_dmv_kahan_li8", "split_dmv_sofroniou_spaletta10", "rk4quat"};
 
 void print(const lgi::State<double>& y) {
   std::printf("R = [%.17g %.17g %.17g; %.17g %.17g %.17g; %.17g %.17g %.17g]\nOmega = [%.17g %.17g %.17g]\n",
@@ -67,32 +56,25 @@ int run(const P& problem, long nsteps) {
   return 0;
 }
 
-template <class P>
-int run_method(std::string_view method, const P& problem, long nsteps) {
-  if (method == "lgvi") return run<lgi::Lgvi<P>>(problem, nsteps);
-  if (method == "rkmk4") return run<lgi::Rkmk4<P>>(problem, nsteps);
-  if (method == "lie_euler") return run<lgi::LieEuler<P>>(problem, nsteps);
-  if (method == "split_axes") return run<lgi::SplitAxes<P>>(problem, nsteps);
-  if (method == "split_dmv") return run<lgi::SplitDmv<P>>(problem, nsteps);
-  if (method == "split_dmv4") return run<lgi::SplitDmv4<P>>(problem, nsteps);
-  if (method == "split_dmv6") return run<lgi::SplitDmv6<P>>(problem, nsteps);
-  if (method == "split_dmv8") return run<lgi::SplitDmv8<P>>(problem, nsteps);
-  if (method == "split_dmv10") return run<lgi::SplitDmv10<P>>(problem, nsteps);
-  if (method == "split_exact") return run<lgi::SplitExact<P>>(problem, nsteps);
-  if (method == "cf4") return run<lgi::Cf4<P>>(problem, nsteps);
-  if (method == "cg3") return run<lgi::Cg3<P>>(problem, nsteps);
-  if (method == "lgvi_yoshida4") return run<lgi::LgviYoshida4<P>>(problem, nsteps);
-  if (method == "lgvi_suzuki4") return run<lgi::LgviSuzuki4<P>>(problem, nsteps);
-  if (method == "lgvi_yoshida6") return run<lgi::LgviYoshida6<P>>(problem, nsteps);
-  if (method == "lgvi_kahan_li6") return run<lgi::LgviKahanLi6<P>>(problem, nsteps);
-  if (method == "lgvi_yoshida8") return run<lgi::LgviYoshida8<P>>(problem, nsteps);
-  if (method == "lgvi_kahan_li8") return run<lgi::LgviKahanLi8<P>>(problem, nsteps);
-  if (method == "lgvi_sofroniou_spaletta10") return run<lgi::LgviSofroniouSpaletta10<P>>(problem, nsteps);
-  if (method == "split_dmv_yoshida4") return run<lgi::SplitDmvYoshida4<P>>(problem, nsteps);
-  if (method == "split_dmv_suzuki4") return run<lgi::SplitDmvSuzuki4<P>>(problem, nsteps);
-  if (method == "split_dmv_kahan_li6") return run<lgi::SplitDmvKahanLi6<P>>(problem, nsteps);
-  if (method == "split_dmv_kahan_li8") return run<lgi::SplitDmvKahanLi8<P>>(problem, nsteps);
-  if (method == "split_dmv_sofroniou_spaletta10") return run<lgi::SplitDmvSofroniouSpaletta10<P>>(problem, nsteps);
+// Every method of the registry that applies to heavy_top (lgi list), then the hand-written baseline.
+template <template <class> class... Ms>
+void list_methods(lgi::app::MethodList<Ms...>) {
+  ((lgi::app::method_applies_v<Ms, lgi::HeavyTop<double>>
+        ? (void)std::printf("%s\n", std::string(Ms<lgi::HeavyTop<double>>::traits.name).c_str())
+        : (void)0),
+   ...);
+  std::printf("rk4quat\n");
+}
+
+template <class P, template <class> class... Ms>
+int run_method(std::string_view method, const P& problem, long nsteps, lgi::app::MethodList<Ms...>) {
+  int rc = -1;
+  const auto try_method = [&]<template <class> class M>() {
+    if constexpr (lgi::app::method_applies_v<M, P>)
+      if (rc < 0 && M<P>::traits.name == method) rc = run<M<P>>(problem, nsteps);
+  };
+  (try_method.template operator()<Ms>(), ...);
+  if (rc >= 0) return rc;
   if constexpr (std::is_same_v<P, lgi::HeavyTop<double>>)
     if (method == "rk4quat") return run<bench::QuatRk4>(problem, nsteps);
   std::fprintf(stderr, "lgi_step_count: unknown method '%.*s' for this problem\n", static_cast<int>(method.size()),
@@ -104,7 +86,7 @@ int run_method(std::string_view method, const P& problem, long nsteps) {
 
 int main(int argc, char** argv) {
   if (argc == 2 && std::string_view(argv[1]) == "--list") {
-    for (const char* name : method_names) std::printf("%s\n", name);
+    list_methods(lgi::app::Methods{});
     return 0;
   }
   if (argc != 4) {
@@ -122,9 +104,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "lgi_step_count: rk4quat runs the heavy_top case only\n");
     return 2;
   }
-  if (problem == "heavy_top") return run_method(method, bench::heavy_top_hv(), nsteps);
-  if (problem == "heavy_top_tilted") return run_method(method, bench::heavy_top_tilted(), nsteps);
-  if (problem == "free_body") return run_method(method, bench::free_body_hv(), nsteps);
+  if (problem == "heavy_top") return run_method(method, bench::heavy_top_hv(), nsteps, lgi::app::Methods{});
+  if (problem == "heavy_top_tilted") return run_method(method, bench::heavy_top_tilted(), nsteps, lgi::app::Methods{});
+  if (problem == "free_body") return run_method(method, bench::free_body_hv(), nsteps, lgi::app::Methods{});
   std::fprintf(stderr, "lgi_step_count: unknown problem '%s'\n", argv[2]);
   return 2;
 }
