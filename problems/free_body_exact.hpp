@@ -65,7 +65,9 @@
 //   however small it is. Measured: with J diagonal the solution stays at 1e-16 of a 113-bit integration
 //   over t ≤ 100 down to Δ2/G² = 1e-14 (closer, double data cannot resolve). With J non-diagonal the
 //   eigensolver's rounding (in long double) perturbs Δ2 by ≈ 1e-19 G², so the error grows like
-//   1e-19/(Δ2/G²) per period: 1.4e-13 at Δ2/G² = 1e-6, 1.2e-11 at 1e-8 (tests, LGI_SLOW_TESTS=1).
+//   1e-19/(Δ2/G²) per period: 1.4e-13 at Δ2/G² = 1e-6, 1.2e-11 at −1e-8 — so with a non-diagonal J the
+//   1e-12 accuracy holds only down to |Δ2|/G² ≈ 1e-7 (tests: SeparatrixAgainst113BitIntegration, the
+//   δ = ±1e-12, −1e-14 and non-diagonal −1e-8 cases in every run; more with LGI_SLOW_TESTS=1).
 // - u is reduced to r ∈ [−K, K] (u = 2jK + r; sn, cn change sign with j, dn does not) for long times.
 // - Round-off in t (Vilmart, J. Comput. Phys. 227 (2008)): the phases λt and φ(t) are linear in t, so the
 //   relative error of the constants λ, K, Π(n | κ), G/I_a becomes an absolute error growing linearly in t.

@@ -373,7 +373,7 @@ TEST(SeedReport, TablesAreThoseTheProgramComputes) {
 
 // ---- `lgi run` on the Euler-angle problem ------------------------------------------------------------
 
-// The lgi binary sits in the build directory above this test's (tests/); skipped when not built.
+// The lgi binary sits in the build directory above this test's (tests/); a test that needs it fails when it is missing.
 std::filesystem::path lgi_binary() {
   char self[4096];
   const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
@@ -444,7 +444,7 @@ std::string replaced(std::string s, const std::string& from, const std::string& 
 std::string euler_scene(const std::string& rates) { return replaced(kEulerScene, "%RATES%", rates); }
 
 TEST(SeedScene, EulerAngleSceneRunsAndMatchesTheHeavyTopScene) {
-  if (!std::filesystem::exists(lgi_binary())) GTEST_SKIP() << "lgi not built";
+  ASSERT_TRUE(std::filesystem::exists(lgi_binary())) << lgi_binary() << " not built (build the lgi_exe target)";
   // Rates of scenario B's Ω0 = (0.3, −0.2, 4.0): from_state of its state.
   const EulerAngleTop<double> top = seed::paper_top();
   const Vector y = top.from_state(seed::scenario_b().x0);
@@ -476,7 +476,7 @@ TEST(SeedScene, EulerAngleSceneRunsAndMatchesTheHeavyTopScene) {
 }
 
 TEST(SeedScene, SingularityStopsTheRunWithAWarning) {
-  if (!std::filesystem::exists(lgi_binary())) GTEST_SKIP() << "lgi not built";
+  ASSERT_TRUE(std::filesystem::exists(lgi_binary())) << lgi_binary() << " not built (build the lgi_exe target)";
   const std::string s = replaced(euler_scene("0.1, 0.2, 5.0"), "[0.5, 1.2, 0.0]", "[0.5, 0.001, 0.0]");  // sin θ0 < 0.05
   const LgiRun r = run_lgi(s);
   EXPECT_EQ(r.status, 2) << r.err;
@@ -485,7 +485,7 @@ TEST(SeedScene, SingularityStopsTheRunWithAWarning) {
 }
 
 TEST(SeedScene, OptionsTheEuclideanPathDoesNotHaveAreRejected) {
-  if (!std::filesystem::exists(lgi_binary())) GTEST_SKIP() << "lgi not built";
+  ASSERT_TRUE(std::filesystem::exists(lgi_binary())) << lgi_binary() << " not built (build the lgi_exe target)";
   const std::string s = replaced(euler_scene("0.3, -0.2, 4.0"), R"("dt": 0.001)", R"("dt": 0.001, "projection": true)");
   const LgiRun r = run_lgi(s);
   EXPECT_EQ(r.status, 1) << r.err;
