@@ -209,24 +209,31 @@ RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& sc
     for (const double v : problem.invariants(y)) row.add(v);
     row.end_row();
   };
+  // t: the time of the rejected state (sin θ < min_sin_theta); t_kept and sin_theta: the last admissible one.
   const auto warn = [&](double t, double sin_theta, double t_kept) {
     std::fprintf(stderr,
-                 "lgi: warning: %s: at t = %s sin(theta) = %.3g < min_sin_theta = %s: the Euler angles are near their "
-                 "coordinate singularity (symmetry axis near the laboratory e3); the run stops at t = %s, the last "
-                 "admissible state (the same motion runs on SO(3) as problem.type heavy_top, or lower "
-                 "/problem/min_sin_theta)\n",
-                 scene.file.c_str(), format_number(t).c_str(), sin_theta, format_number(problem.min_sin_theta).c_str(),
-                 format_number(t_kept).c_str());
+                 "lgi: warning: %s: at t = %s sin(theta) falls below min_sin_theta = %s: the Euler angles are near "
+                 "their coordinate singularity (symmetry axis near the laboratory e3); the run stops at t = %s, the "
+                 "last admissible state (sin(theta) = %.3g there; the same motion runs on SO(3) as problem.type "
+                 "heavy_top, or lower /problem/min_sin_theta)\n",
+                 scene.file.c_str(), format_number(t).c_str(), format_number(problem.min_sin_theta).c_str(),
+                 format_number(t_kept).c_str(), sin_theta);
   };
   constexpr std::array<int, 2> integrals{0, 1};  // momentum_k, momentum_psi (the integrals among the columns)
   Vector y = problem.from_state(scene.initial);
   report.energy_initial = problem.energy(y);
   const auto inv0 = problem.invariants(y);
-  if (!problem.admissible(y)) {
+  if (!problem.admissible(y)) {  // already at t = 0: no admissible state at all
     report.summary.status = RunStatus::stopped;
-    warn(0.0, std::sin(y[1]), 0.0);
+    std::fprintf(stderr,
+                 "lgi: warning: %s: at t = 0 sin(theta) = %.3g < min_sin_theta = %s: the initial attitude is at the Euler "
+                 "angles' coordinate singularity (symmetry axis near the laboratory e3); the run stops at t = 0 (the "
+                 "same motion runs on SO(3) as problem.type heavy_top, or lower /problem/min_sin_theta)\n",
+                 scene.file.c_str(), std::sin(value_of(y[1])), format_number(problem.min_sin_theta).c_str());
     report.final_state = scene.initial;
-    report.energy_final = report.energy_initial;
+    // The angle rates (hence the angle-form energy) are undefined at sin θ = 0: the energy of the same state
+    // on SO(3) instead.
+    report.energy_initial = report.energy_final = energy(problem.heavy_top(), scene.initial);
     return report;
   }
   Progress progress{options.progress, report.expected_steps, options.stop};
@@ -294,10 +301,21 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
   const MethodTraits& m = scene.method->traits;
   const std::string problem = std::visit([](const auto& p) { return std::string(p.name); }, scene.problem);
   const bool euler_angles = problem == EulerAngleTop<double>::name;  // its own path: RK on the angles
+  // A method whose order is higher without torque (preprocessed DMV) shows that order on a torque-free problem.
+  const bool torque_free = std::visit(
+      [](const auto& p) {
+        using P = std::decay_t<decltype(p)>;
+        if constexpr (requires { P::has_torque; })
+          return !P::has_torque;
+        else
+          return false;
+      },
+      scene.problem);
+  const int order = torque_free && m.free_body_order > 0 ? m.free_body_order : m.order;
   char buf[512];
   std::string s;
   std::snprintf(buf, sizeof buf, "%s: %s, %s (order %d%s%s), dt = %s\n", scene.file.c_str(), problem.c_str(),
-                std::string(m.name).c_str(), m.order, m.symplectic ? ", symplectic" : "",
+                std::string(m.name).c_str(), order, m.symplectic ? ", symplectic" : "",
                 euler_angles ? ", Runge-Kutta on the Euler angles" : m.exact_on_group ? ", on SO(3)" : "",
                 format_number(scene.dt).c_str());
   s += buf;
