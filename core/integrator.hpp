@@ -30,7 +30,8 @@ namespace lgi {
 struct MethodTraits {
   std::string_view name;         // scene name, e.g. "lgvi"
   std::string_view title;        // e.g. "Lie group variational integrator"
-  int order;                     // classical order of convergence
+  int order;                     // classical order of convergence, on every problem the method applies to
+  int free_body_order = 0;       // order on torque-free problems where it is higher (0: same as order)
   bool symplectic;               // the step is a symplectic map of T*SO(3)
   bool symmetric;                // step(h) ∘ step(−h) = id (time-reversible)
   bool explicit_method;          // no nonlinear solve
@@ -70,11 +71,14 @@ struct StepperOptions {
   // symmetric composition a(h/2) b(h/2) c(h) b(h/2) a(h/2); {0, 0, 0}: chosen from the moments.
   std::array<int, 3> axis_order{0, 0, 0};
 
-  // Throws std::invalid_argument unless 0 < tolerance < 1e-2 and max_iterations ≥ 1.
+  // Throws std::invalid_argument unless 0 < tolerance < 1e-2, max_iterations ≥ 1, rtol and atol are finite
+  // and either both 0 (fixed steps) or both > 0 (integrate_adaptive also requires rtol ≥ 10 ε).
   void check() const {
     if (!(tolerance > 0 && tolerance < 1e-2))
       throw std::invalid_argument("lgi::StepperOptions: tolerance must be in (0, 0.01)");
     if (max_iterations < 1) throw std::invalid_argument("lgi::StepperOptions: max_iterations must be >= 1");
+    if (!(rtol >= 0 && atol >= 0 && std::isfinite(rtol) && std::isfinite(atol)) || (rtol > 0) != (atol > 0))
+      throw std::invalid_argument("lgi::StepperOptions: rtol and atol must be finite and both 0 or both > 0");
     const bool automatic = axis_order[0] == 0 && axis_order[1] == 0 && axis_order[2] == 0;
     bool permutation = true;  // {1, 2, 3} in some order
     for (int i = 0; i < 3; ++i)
