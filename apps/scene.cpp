@@ -99,6 +99,26 @@ Scene parse_scene(const json& document, const std::string& file) {
   const bool takes_options = !runs_off_group(type);
   for (const std::string_view key : scene.method->traits.options)
     if (!key.empty() && takes_options) keys.push_back(key);
+  // rtol/atol or projection on a method that does not take them: say why, before the generic unknown-key error.
+  const auto takes = [](const MethodTraits& traits, std::string_view key) {
+    return std::find(traits.options.begin(), traits.options.end(), key) != traits.options.end();
+  };
+  for (const std::string_view key : {std::string_view("rtol"), std::string_view("atol")}) {
+    const auto node = integrator.find(key);
+    if (!node || !takes_options || takes(scene.method->traits, key)) continue;
+    std::string pairs;
+    for (const MethodInfo& m : method_registry())
+      if (takes(m.traits, key) && method_applies(m.traits.name, type))
+        pairs += (pairs.empty() ? "" : ", ") + std::string(m.traits.name);
+    node->fail("method " + method + " has no embedded error estimate: adaptive steps (rtol, atol) need one of " +
+               pairs);
+  }
+  if (const auto node = integrator.find("projection");
+      node && takes_options && !takes(scene.method->traits, "projection"))
+    node->fail("method " + method +
+               (scene.method->traits.symplectic
+                    ? " is symplectic (its energy error stays bounded): projection is for non-symplectic methods"
+                    : " does not take projection"));
   integrator.allow_only(keys, "method " + method);
   scene.dt = integrator.at("dt").positive();
   for (const std::string_view key : scene.method->traits.options) {

@@ -188,7 +188,9 @@ class EmbeddedRk {
   }();
 
   explicit EmbeddedRk(const P& problem, const StepperOptions& options = {})
-      : problem_(problem), J_(problem.inertia), rtol_(options.rtol), atol_(options.atol) {}
+      : problem_(problem), J_(problem.inertia), rtol_(options.rtol), atol_(options.atol) {
+    options.check();
+  }
 
   Internal to_internal(const State<Scalar>& x, const Scalar&) const {
     if constexpr (C == embedding::Chart::quaternion)

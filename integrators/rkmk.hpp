@@ -14,8 +14,12 @@
 //   update:   R_{n+1} = R_n exp(h Σ b_i U_i),   Ω_{n+1} = Ω_n + h Σ b_i V_i.
 //
 // The truncation after the ad^(p−2) term keeps the order p of the tableau (HLW Theorem IV.8.5;
-// Munthe-Kaas, Appl. Numer. Math. 29 (1999) 115): along the exact flow u = tΩ + O(t²), so ad_u^k Ω =
-// O(t^(k+1)) and the dropped terms change a step by O(h^(p+1)). It makes the stage map a polynomial.
+// Munthe-Kaas, Appl. Numer. Math. 29 (1999) 115 — theorem numbers from the literature survey, not
+// re-confirmed here): along the exact flow u = tΩ + O(t²), so ad_u^k Ω = O(t^(k+1)) and the dropped terms
+// change a step by O(h^(p+1)). It makes the stage map a polynomial. Since B_k = 0 for odd k ≥ 3, K = p − 2
+// is lowered to the last non-zero term (DP5: K = 2). Measured (tests/test_rkmk_family.cpp,
+// RkmkSeriesTruncation): one non-zero term short, the order falls to the dropped power + 1 — RKMK3 with
+// K = 0: 2.000; RKMK4 with K = 1: 3.003; DP5 with K = 1: 3.001; DOP853 with K = 4: 7.06.
 // Zero tableau entries are skipped at compile time, and so are trailing stages with b_i = 0 in fixed steps
 // (Dormand–Prince's 7th stage); for a torque-free problem no stage attitude is formed at all, and for a
 // torque that depends on R only through Γ = Rᵀa (ReducedAttitudeProblem: the heavy top) the stages
@@ -56,7 +60,9 @@
 
 namespace lgi {
 
-template <const auto& Tableau, RigidBodyProblem P>
+// SeriesDegree: the last ad-power kept in the J_r⁻¹ series (−1: the default, the least that keeps the
+// tableau's order; other values only to measure that the truncation matters, tests/test_rkmk_family.cpp).
+template <const auto& Tableau, RigidBodyProblem P, int SeriesDegree = -1>
 class Rkmk {
  public:
   using Problem = P;
@@ -67,7 +73,16 @@ class Rkmk {
   static constexpr bool embedded = requires { Tableau.e; Tableau.dense; };
 
  private:
-  static constexpr int series_degree = Tableau.order > 2 ? Tableau.order - 2 : 0;
+  // K = p − 2, lowered to the last non-zero term: the Bernoulli numbers B_k vanish for odd k ≥ 3, so K = 3 is
+  // K = 2 (DP5) and K = 7 would be K = 6 — without the lowering the loop would form an unused cross product.
+  static constexpr int series_degree = [] {
+    if constexpr (SeriesDegree >= 0) {
+      return SeriesDegree;
+    } else {
+      const int K = Tableau.order > 2 ? Tableau.order - 2 : 0;
+      return K >= 3 && K % 2 == 1 ? K - 1 : K;
+    }
+  }();
   static constexpr bool reduced = P::has_torque && ReducedAttitudeProblem<P>;
   static constexpr int dense_stages = [] {
     if constexpr (embedded) return Tableau.dense_stages; else return Tableau.stages;
@@ -105,7 +120,9 @@ class Rkmk {
   };
 
   explicit Rkmk(const P& problem, const StepperOptions& options = {})
-      : problem_(problem), J_(problem.inertia), rtol_(options.rtol), atol_(options.atol) {}
+      : problem_(problem), J_(problem.inertia), rtol_(options.rtol), atol_(options.atol) {
+    options.check();
+  }
 
   Internal to_internal(const State<Scalar>& x, const Scalar&) const { return x; }
   State<Scalar> to_state(const Internal& y) const { return y; }

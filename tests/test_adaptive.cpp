@@ -115,13 +115,18 @@ TEST(Adaptive, Dp5MeetsTheTolerance) { meets_tolerance<RkmkDp5>("rkmk_dp5"); }
 TEST(Adaptive, Dp8MeetsTheTolerance) { meets_tolerance<RkmkDp8>("rkmk_dp8"); }
 
 // Over T = 10 the steps grow in number and the error per step adds up: the number of accepted steps falls
-// with the tolerance as tol^(−1/k) (k = the estimate's order: 5 for DP5, 8 for DOP853) and the global error
-// stays proportional to the tolerance (its ratio to tol varies by less than 10× over tol = 1e-6 … 1e-12).
-// (The ratio itself exceeds 10 here for DP5 — 33 … 46 — see the report: error-per-step control bounds the
-// local, not the global, error.)
+// with the tolerance as tol^(−1/k) (k = the estimate's order: 5 for DP5, 8 for DOP853), fitted over the
+// asymptotic range tol = 1e-6 … 1e-12 (the fit over 1e-4 … 1e-12 is printed too: at 1e-4 DOP853 takes 13
+// steps over T = 10, far from asymptotic), and the global error stays proportional to the tolerance (its ratio
+// to tol varies by less than 10× over tol = 1e-6 … 1e-12).
+// Finding: over this longer horizon DP5's error exceeds 10× tol — 33 … 46× (DOP853: 2 … 7×): error-per-step
+// control bounds the local error (scaled RMS ≤ 1, with sc = atol + rtol|y| ≈ 2 tol per component), and on
+// this top the local errors of 40 … 600 steps add up and grow. The ratio is asserted below 60 (DP5) and 10
+// (DOP853), so that a regression of the controller shows; the 10× acceptance holds over T = 2 (above).
 template <template <class> class Method>
-void steps_follow_the_order(const char* name) {
+void steps_follow_the_order(const char* name, double max_ratio) {
   std::vector<double> tols, steps, ratios;
+  double worst_ratio = 0;
   for (int e = 4; e <= 12; ++e) {
     const double tol = std::pow(10.0, -e);
     const AdaptiveRun run = run_skew<Method>(track_10(), tol);
@@ -132,18 +137,39 @@ void steps_follow_the_order(const char* name) {
     tols.push_back(tol);
     steps.push_back(static_cast<double>(run.summary.accepted));
     if (e >= 6) ratios.push_back(run.max_error / tol);
+    worst_ratio = std::max(worst_ratio, run.max_error / tol);
   }
-  const double slope = test::fitted_order(tols, steps);
+  const double slope_all = test::fitted_order(tols, steps);
+  const std::vector<double> tols6(tols.begin() + 2, tols.end()), steps6(steps.begin() + 2, steps.end());
+  const double slope = test::fitted_order(tols6, steps6);
   const double k = Method<HeavyTop<double>>::control_order;
   const double spread = *std::max_element(ratios.begin(), ratios.end()) / *std::min_element(ratios.begin(), ratios.end());
-  std::printf("%s: accepted steps ∝ tol^%.4f (predicted −1/%d = %.4f); error/tol spread over 1e-6 … 1e-12: %.2f\n",
-              name, slope, static_cast<int>(k), -1.0 / k, spread);
+  // The method's effective order at these step sizes: fixed steps h = T/N with the N the adaptive runs took
+  // (tol 1e-6 … 1e-12), error at T against the reference. Where the step count follows the error behaviour,
+  // steps ∝ tol^(−1/p_eff).
+  std::vector<double> hs, errors;
+  for (std::size_t i = 2; i < steps.size(); ++i) {
+    Method<HeavyTop<double>> fixed(skew_top());
+    State<double> x = test::skew_initial_state();
+    const double h = 10.0 / steps[i];
+    integrate_to(fixed, x, 0.0, h, 10.0);
+    hs.push_back(h);
+    errors.push_back(distance(x.cast<L>(), track_10().states.back()));
+  }
+  const double p_eff = test::fitted_order(hs, errors);
+  std::printf("%s: accepted steps ∝ tol^%.4f over 1e-6 … 1e-12 (tol^%.4f over 1e-4 … 1e-12); predicted by the "
+              "estimate's order −1/%d = %.4f, by the fixed-step order at the same steps (h = %.3g … %.3g: %.2f) %.4f; "
+              "error/tol spread over 1e-6 … 1e-12: %.2f, largest error/tol %.1f\n",
+              name, slope, slope_all, static_cast<int>(k), -1.0 / k, hs.front(), hs.back(), p_eff, -1.0 / p_eff, spread,
+              worst_ratio);
   EXPECT_NEAR(slope, -1.0 / k, 0.2 / k) << name;
+  EXPECT_NEAR(slope, -1.0 / p_eff, 0.1 / p_eff) << name;
   EXPECT_LT(spread, 10.0) << name;
+  EXPECT_LT(worst_ratio, max_ratio) << name;
 }
 
-TEST(Adaptive, Dp5StepsFollowItsOrder) { steps_follow_the_order<RkmkDp5>("rkmk_dp5"); }
-TEST(Adaptive, Dp8StepsFollowItsOrder) { steps_follow_the_order<RkmkDp8>("rkmk_dp8"); }
+TEST(Adaptive, Dp5StepsFollowItsOrder) { steps_follow_the_order<RkmkDp5>("rkmk_dp5", 60); }
+TEST(Adaptive, Dp8StepsFollowItsOrder) { steps_follow_the_order<RkmkDp8>("rkmk_dp8", 10); }
 
 // Dense output on the group has the continuous extension's order q: one step of size h from the exact
 // initial state, read at θ = 1/2, is off the exact solution by O(h^(q+1)) (4 for DP5 → 5; 7 for DOP853 → 8),

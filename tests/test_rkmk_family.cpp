@@ -190,6 +190,7 @@ TEST(RkmkFamilyFindings, HairerVilmartFreeBodyDop853) {
 // ---- long runs: R on SO(3), energy drift ------------------------------------------------------------
 
 struct LongRun {
+  std::vector<double> t;
   std::vector<double> energy_error;
   double orthogonality = 0;
   std::int64_t steps = 0;
@@ -200,7 +201,8 @@ LongRun long_run(const HeavyTop<double>& problem, const State<double>& x0, doubl
   S stepper(problem);
   const double E0 = energy(problem, x0);
   LongRun run;
-  auto observe = [&](double, const State<double>& x) {
+  auto observe = [&](double t, const State<double>& x) {
+    run.t.push_back(t);
     run.energy_error.push_back((energy(problem, x) - E0) / std::abs(E0));
     run.orthogonality = std::max(run.orthogonality, so3::orthogonality_error(x.R));
   };
@@ -230,6 +232,24 @@ double mean_shift(const std::vector<double>& err) {
   return std::abs(last - first) / static_cast<double>(tenth) / max_abs(err);
 }
 
+// The drift slope of tests/test_composition.cpp (the measure the symplectic compositions must keep below 0.1):
+// log max |energy error| over 64 equal windows of the run (the first left out) against log of the window's
+// middle time. ≈ 0 for a bounded error, → 1 for a linear drift, ≈ 0.5 for a random walk.
+double drift_slope(const LongRun& run) {
+  constexpr int windows = 64;
+  const double T = run.t.back();
+  std::vector<double> ts, es;
+  for (int w = 1; w < windows; ++w) {
+    const double a = T * w / windows, b = T * (w + 1) / windows;
+    double largest = 0;
+    for (std::size_t i = 0; i < run.t.size(); ++i)
+      if (run.t[i] > a && run.t[i] <= b) largest = std::max(largest, std::abs(run.energy_error[i]));
+    ts.push_back(0.5 * (a + b));
+    es.push_back(largest);
+  }
+  return test::fitted_order(ts, es);
+}
+
 // Every RKMK method declares exact_on_group: ‖RᵀR − I‖ ≤ 1e-12 after 10⁶ steps (HV heavy top, h = 0.01).
 TYPED_TEST(RkmkFamily, MillionStepsStayOnSO3) {
   using S = typename TypeParam::template type<HeavyTop<double>>;
@@ -242,25 +262,56 @@ TYPED_TEST(RkmkFamily, MillionStepsStayOnSO3) {
   EXPECT_LE(run.orthogonality, 1e-12);
 }
 
-// Not symplectic: the energy drifts (HV heavy top, h = 0.05, 2·10⁵ steps: mean shift ≈ 0.9 for every
-// method). The same measure gives ≈ 0 for the LGVI below, so this test can tell a drift from none.
+// Not symplectic: the energy drifts (HV heavy top, h = 0.05, 2·10⁵ steps, T = 10⁴): mean shift ≈ 0.9 and drift
+// slope ≈ 1 for every method. The same two measures give ≈ 0 for the LGVI below, so this test can tell a
+// drift from none; the slope is the one the symplectic methods' tests hold below 0.1.
 TYPED_TEST(RkmkFamily, EnergyDrifts) {
   using S = typename TypeParam::template type<HeavyTop<double>>;
   const auto top = HeavyTop<double>::hairer_vilmart();
   const LongRun run = long_run<S>(top, test::hairer_vilmart_state(top), 0.05, 200'000, 200);
-  const double shift = mean_shift(run.energy_error);
-  std::printf("%-10s h = 0.05, 2e5 steps: final relative energy error %.3e, mean shift %.3f\n", S::traits.name.data(),
-              run.energy_error.back(), shift);
+  const double shift = mean_shift(run.energy_error), slope = drift_slope(run);
+  std::printf("%-10s h = 0.05, 2e5 steps: final relative energy error %.3e, mean shift %.3f, drift slope %.3f\n",
+              S::traits.name.data(), run.energy_error.back(), shift, slope);
   EXPECT_GT(shift, 0.5) << S::traits.name;
+  EXPECT_GT(slope, 0.5) << S::traits.name;
 }
 
 TEST(RkmkFamilyControl, TheDriftMeasureSeesNoDriftInTheLgvi) {
   const auto top = HeavyTop<double>::hairer_vilmart();
   const LongRun run = long_run<Lgvi<HeavyTop<double>>>(top, test::hairer_vilmart_state(top), 0.05, 200'000, 200);
-  const double shift = mean_shift(run.energy_error);
-  std::printf("lgvi       h = 0.05, 2e5 steps: max relative energy error %.3e, mean shift %.3f\n",
-              max_abs(run.energy_error), shift);
+  const double shift = mean_shift(run.energy_error), slope = drift_slope(run);
+  std::printf("lgvi       h = 0.05, 2e5 steps: max relative energy error %.3e, mean shift %.3f, drift slope %.3f\n",
+              max_abs(run.energy_error), shift, slope);
   EXPECT_LT(shift, 0.05);
+  EXPECT_LT(std::abs(slope), 0.1);
+}
+
+// ---- the truncation of the J_r⁻¹ series -----------------------------------------------------------
+//
+// An RKMK method of order p keeps the ad_u^k terms of J_r⁻¹(u)W up to k = p − 2 (rkmk.hpp). Along a step
+// u = O(h) and ad_u W = O(h²), so dropping the term k changes a step by O(h^(k+2)) and the global error by
+// O(h^(k+1)): the truncation must match the order. Measured on the skew top: with the series cut one non-zero
+// term short (K lowered to the previous non-zero Bernoulli term), the observed order falls to k + 1 — which
+// shows that the default K is needed and (the tests above) sufficient.
+template <class P>
+using Rkmk3SeriesK0 = Rkmk<tableaus::kutta3, P, 0>;  // drops ½ ad_u: order 2
+template <class P>
+using Rkmk4SeriesK1 = Rkmk<tableaus::classical_rk4, P, 1>;  // drops (1/12) ad_u²: order 3
+template <class P>
+using RkmkDp5SeriesK1 = Rkmk<tableaus::dormand_prince5, P, 1>;  // drops (1/12) ad_u²: order 3
+template <class P>
+using RkmkDp8SeriesK4 = Rkmk<tableaus::dop853, P, 4>;  // drops (1/30240) ad_u⁶: order 7
+
+TEST(RkmkSeriesTruncation, OneTermShortLowersTheOrder) {
+  const auto order = [](auto measured, int expected, const char* what) {
+    std::printf("%-34s observed %.3f, expected %d\n", what, measured, expected);
+    EXPECT_NEAR(measured, expected, 0.2) << what;
+  };
+  const State<double> x0 = test::skew_initial_state();
+  order(observed_order<Rkmk3SeriesK0>(skew_top(), x0, 2.0, skew_reference(), "K=0"), 2, "rkmk3 with K = 0 (needs 1)");
+  order(observed_order<Rkmk4SeriesK1>(skew_top(), x0, 2.0, skew_reference(), "K=1"), 3, "rkmk4 with K = 1 (needs 2)");
+  order(observed_order<RkmkDp5SeriesK1>(skew_top(), x0, 2.0, skew_reference(), "K=1"), 3, "rkmk_dp5 with K = 1 (needs 2)");
+  order(observed_order<RkmkDp8SeriesK4>(skew_top(), x0, 2.0, skew_reference(), "K=4"), 7, "rkmk_dp8 with K = 4 (needs 6)");
 }
 
 // ---- steady rotation, Jets, torque paths -------------------------------------------------------------
