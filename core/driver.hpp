@@ -66,8 +66,8 @@ GridPoint locate(const T& t0, const T& h, const T& t) {
 
 template <class T>
 struct OutputEvent {
-  T t;
-  GridPoint at;
+  T t{};
+  GridPoint at{};
 };
 
 // Steps y from grid index n to m. Returns false when the run must end (failure or monitor).

@@ -3,6 +3,7 @@
 // steady rotation, the generic torque path against the reduced one, R on SO(3) after 10⁶ steps, energy
 // drift (they are not symplectic: the drift is reported, and checked to be there), Jets against finite
 // differences.
+#include "jet_check.hpp"
 #include "test_problems.hpp"
 
 #include <lgi/core/driver.hpp>
@@ -230,41 +231,7 @@ TYPED_TEST(CommutatorFreeTest, MillionStepsStayOnTheGroup) {
 // Jets through CF4 and CG3: derivatives after 50 steps with respect to Ω0 and b, against central
 // differences, on both torque paths (reduced: the heavy top; generic: stage attitudes as matrices).
 TYPED_TEST(CommutatorFreeTest, JetDerivativesMatchFiniteDifferences) {
-  using Jet = ceres::Jet<double, 4>;
-  using SJ = typename TypeParam::template type<HeavyTop<Jet>>;
-  using SD = typename TypeParam::template type<HeavyTop<double>>;
-  const auto problem = test::skew_heavy_top();
-  const State<double> x0 = test::skew_initial_state();
-  const double h = 0.02, T = 1.0;
-  auto jet_problem = problem.cast<Jet>();
-  jet_problem.b.v[3] = 1;
-  State<Jet> xj = x0.cast<Jet>();
-  for (int i = 0; i < 3; ++i) xj.Omega[i].v[i] = 1;
-  SJ jet_stepper(jet_problem);
-  ASSERT_EQ(integrate_to(jet_stepper, xj, Jet(0), Jet(h), Jet(T)).status, RunStatus::completed);
-  const auto run = [&](const Vec3<double>& dOmega, double db) {
-    auto p = problem;
-    p.b += db;
-    State<double> x = x0;
-    x.Omega += dOmega;
-    SD stepper(p);
-    integrate_to(stepper, x, 0.0, h, T);
-    return x;
-  };
-  const double eps = 1e-6;
-  for (int j = 0; j < 4; ++j) {
-    const Vec3<double> d = j < 3 ? Vec3<double>(eps * Vec3<double>::Unit(j)) : Vec3<double>::Zero();
-    const double db = j == 3 ? eps : 0.0;
-    const State<double> plus = run(d, db), minus = run(-d, -db);
-    for (int r = 0; r < 3; ++r) {
-      EXPECT_NEAR(xj.Omega[r].v[j], (plus.Omega[r] - minus.Omega[r]) / (2 * eps), 1e-7) << "dΩ" << r << "/dp" << j;
-      for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(xj.R(r, c).v[j], (plus.R(r, c) - minus.R(r, c)) / (2 * eps), 1e-7) << "dR/dp" << j;
-    }
-  }
-  ASSERT_TRUE(all_finite(xj.R) && all_finite(xj.Omega));
-  const State<double> plain = run(Vec3<double>::Zero(), 0.0);
-  for (int r = 0; r < 3; ++r) EXPECT_NEAR(xj.Omega[r].a, plain.Omega[r], 1e-14);
+  test::expect_heavy_top_jets_match<TypeParam::template type>(0.02, 1.0, 1e-14);
 }
 
 }  // namespace

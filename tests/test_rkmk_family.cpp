@@ -4,6 +4,7 @@
 // steady rotations; Jets against finite differences; generic and reduced torque paths.
 #include "order_measure.hpp"
 #include "rk_order_conditions.hpp"
+#include "jet_check.hpp"
 #include "test_problems.hpp"
 
 #include <lgi/core/driver.hpp>
@@ -334,39 +335,7 @@ TYPED_TEST(RkmkFamily, SteadyRotationIsExact) {
 
 // Jets through 50 steps: derivatives with respect to Ω0 and b against central differences.
 TYPED_TEST(RkmkFamily, JetDerivativesMatchFiniteDifferences) {
-  using Jet = ceres::Jet<double, 4>;
-  using SJ = typename TypeParam::template type<HeavyTop<Jet>>;
-  using SD = typename TypeParam::template type<HeavyTop<double>>;
-  const auto problem = test::skew_heavy_top();
-  const State<double> x0 = test::skew_initial_state();
-  const double h = 0.02, T = 1.0;
-  auto jet_problem = problem.cast<Jet>();
-  jet_problem.b.v[3] = 1;
-  State<Jet> xj = x0.cast<Jet>();
-  for (int i = 0; i < 3; ++i) xj.Omega[i].v[i] = 1;
-  SJ jet_stepper(jet_problem);
-  ASSERT_EQ(integrate_to(jet_stepper, xj, Jet(0), Jet(h), Jet(T)).status, RunStatus::completed);
-  const auto run = [&](const Vec3<double>& dOmega, double db) {
-    auto p = problem;
-    p.b += db;
-    State<double> x = x0;
-    x.Omega += dOmega;
-    SD stepper(p);
-    integrate_to(stepper, x, 0.0, h, T);
-    return x;
-  };
-  const double eps = 1e-6;
-  for (int j = 0; j < 4; ++j) {
-    const Vec3<double> d = j < 3 ? Vec3<double>(eps * Vec3<double>::Unit(j)) : Vec3<double>::Zero();
-    const double db = j == 3 ? eps : 0.0;
-    const State<double> plus = run(d, db), minus = run(-d, -db);
-    for (int r = 0; r < 3; ++r) {
-      EXPECT_NEAR(xj.Omega[r].v[j], (plus.Omega[r] - minus.Omega[r]) / (2 * eps), 1e-7) << SD::traits.name;
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(xj.R(r, c).v[j], (plus.R(r, c) - minus.R(r, c)) / (2 * eps), 1e-7);
-    }
-  }
-  const State<double> plain = run(Vec3<double>::Zero(), 0.0);
-  for (int r = 0; r < 3; ++r) EXPECT_NEAR(xj.Omega[r].a, plain.Omega[r], 1e-14);
+  test::expect_heavy_top_jets_match<TypeParam::template type>(0.02, 1.0, 1e-14);
 }
 
 // The heavy top seen only through torque(R): stage attitudes R·exp(u) instead of rotated Γ.
