@@ -150,6 +150,7 @@ class CommutatorFree {
       .exact_on_group = true,
       .preserves_momentum = false,
       .reference = Tableau.reference,
+      .options = {"projection"},
   };
 
   explicit CommutatorFree(const P& problem, const StepperOptions& = {}) : problem_(problem), J_(problem.inertia) {}

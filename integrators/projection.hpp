@@ -59,10 +59,14 @@ concept ProjectableProblem =
     RigidBodyProblem<P> &&
     !requires(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) { p.torque(t, R); };
 
-// Steppers whose result Projected can correct: not symplectic, with Ω in their internal coordinates.
+// Steppers whose result Projected can correct: not symplectic, with Ω in their internal coordinates, or
+// with a set_omega(y, Ω) that replaces the internal velocity (or momentum) and leaves the attitude alone
+// (the splittings, whose internal state is a quaternion and the principal-axis momentum).
 template <class S>
-concept ProjectableStepper = Stepper<S> && ProjectableProblem<typename S::Problem> && (!S::traits.symplectic) &&
-                             requires(typename S::Internal& y) { { y.Omega } -> std::convertible_to<Vec3<typename S::Scalar>>; };
+concept ProjectableStepper =
+    Stepper<S> && ProjectableProblem<typename S::Problem> && (!S::traits.symplectic) &&
+    (requires(typename S::Internal& y) { { y.Omega } -> std::convertible_to<Vec3<typename S::Scalar>>; } ||
+     requires(const S& s, typename S::Internal& y, const Vec3<typename S::Scalar>& w) { s.set_omega(y, w); });
 
 // The invariant values a projected run restores.
 template <class T>
@@ -264,9 +268,14 @@ class Projected {
   bool project(typename S::Internal& z, const ProjectionTargets<Scalar>& target) const {
     if constexpr (std::is_same_v<typename S::Internal, State<Scalar>>) {
       return projection_.project(z.R, z.Omega, target);
-    } else {
+    } else if constexpr (requires { z.Omega; }) {
       const State<Scalar> x = inner_.to_state(z);
       return projection_.project(x.R, z.Omega, target);
+    } else {
+      State<Scalar> x = inner_.to_state(z);
+      if (!projection_.project(x.R, x.Omega, target)) return false;
+      inner_.set_omega(z, x.Omega);
+      return true;
     }
   }
 

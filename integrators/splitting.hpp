@@ -85,7 +85,10 @@ struct FlowTraits<PreprocessedDmv<T, R>> {
   static constexpr bool explicit_method = false;
   static constexpr std::string_view reference =
       "Hairer & Vilmart, J. Phys. A 39 (2006) 13225 (coefficients: the authors' DMV10.f)";
-  static constexpr std::array<std::string_view, 6> options{"tolerance", "max_iterations"};
+  // Not claimed symplectic (above): the invariant projection is offered, as for any such method.
+  static constexpr std::array<std::string_view, 6> options =
+      R == 1 ? std::array<std::string_view, 6>{"tolerance", "max_iterations"}
+             : std::array<std::string_view, 6>{"tolerance", "max_iterations", "projection"};
 };
 
 template <class Flow, RigidBodyProblem P>
@@ -130,6 +133,11 @@ class Splitting {
     const Mat3<Scalar> Rp = quat::to_matrix(y.q);
     return {axes_.identity ? Rp : Mat3<Scalar>(Rp * axes_.Q.transpose()),
             axes_.to_body(Vec3<Scalar>(y.Pi.cwiseQuotient(axes_.I)))};
+  }
+  // Replaces the velocity, the attitude (and with it the torque of the next kick) untouched: the invariant
+  // projection's hook (integrators/projection.hpp) for the methods that are not symplectic.
+  void set_omega(Internal& y, const Vec3<Scalar>& Omega) const {
+    y.Pi = axes_.I.cwiseProduct(axes_.to_principal(Omega));
   }
 
   LGI_FLATTEN StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {

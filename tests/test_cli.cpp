@@ -339,6 +339,31 @@ TEST_F(Cli, OutputEvery) {
   EXPECT_EQ(csv.text.back()[0], "1.0049999999999999");
 }
 
+// The summary says how the run was made: adaptive (with its tolerances) and projected. Projection is taken by
+// every non-symplectic method, whatever its internal state (CF4: (R, Ω); split_dmv4: quaternion and
+// principal-axis momentum), and the energy column shows it.
+TEST_F(Cli, SummarySaysAdaptiveAndProjected) {
+  for (const char* method : {"cf4", "split_dmv4"}) {
+    const fs::path file = write(std::string(method) + ".json",
+                                std::string(SceneText{.integrator = std::string(R"("integrator": {"method": ")") + method +
+                                                                    R"(", "dt": 0.01, "projection": true})",
+                                                      .rest = R"("t_end": 20.0, "output": {"every": 100})"}));
+    const Result r = lgi("run " + file.string());
+    ASSERT_EQ(r.status, 0) << method << ": " << r.err;
+    EXPECT_NE(r.err.find("projected"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("adaptive"), std::string::npos) << r.err;
+    const Csv csv = parse_csv(r.out);
+    const double E0 = csv.rows[0][csv.column("energy")];
+    for (const auto& row : csv.rows) EXPECT_NEAR(row[csv.column("energy")], E0, 1e-13 * std::abs(E0)) << method;
+  }
+  const fs::path file = write(
+      "dp5.json", std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk_dp5", "dt": 0.01, "rtol": 1e-9, "atol": 1e-10})"}));
+  const Result r = lgi("run " + file.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("adaptive         rtol = 1e-09, atol = 1e-10"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("projected"), std::string::npos) << r.err;
+}
+
 TEST_F(Cli, FailedIntegrationExitsTwoAndLeavesNoFile) {
   // h|Ω| = 1.5 about the symmetry axis: the LGVI's implicit equation has no solution.
   const fs::path file =
