@@ -17,6 +17,9 @@ packages=(
   libboost-dev          # Boost.Math: elliptic functions for exact solutions (header-only)
   libcli11-dev          # command line
   valgrind              # callgrind instruction counts (benchmarks)
+  libgsl-dev            # benchmarks: GSL odeiv2 (rk8pd, rk4imp, msadams), a peer in work_precision
+  libsundials-dev       # benchmarks: SUNDIALS 6.4 CVODE Adams and ARKODE ERK, peers in work_precision
+  python3-matplotlib    # benchmarks: scripts/bench_report.py plots (Debian's /usr/bin/python3)
 )
 # shellcheck disable=SC2206
 packages+=(${LGI_DEPS_EXTRA:-})
