@@ -3,8 +3,9 @@
 #
 #   benchmarks/callgrind_steps.sh BUILD_DIR [N1 N2]        (defaults N1 = 1000, N2 = 11000)
 #   PROBLEMS="heavy_top" benchmarks/callgrind_steps.sh BUILD_DIR   (only these problems; default: all three)
+#   METHODS="split_dmv lgvi" benchmarks/callgrind_steps.sh BUILD_DIR (only these methods; default: all)
 #
-# The methods are every method lgi_step_count knows (`lgi_step_count --list`).
+# The methods are every method lgi_step_count knows (`lgi_step_count --list`), or those of METHODS.
 #
 # Runs BUILD_DIR/benchmarks/lgi_step_count under `valgrind --tool=callgrind` at N1 and N2 steps and
 # prints a markdown table of (Ir(N2) − Ir(N1)) / (N2 − N1): start-up, set-up and printing cancel in
@@ -30,7 +31,7 @@ ir() {
 
 echo "| method | problem | instructions/step | Newton updates/step |"
 echo "|---|---|---:|---:|"
-methods=$("$exe" --list)
+methods=${METHODS:-$("$exe" --list)}
 for method in $methods; do
   for problem in ${PROBLEMS:-heavy_top heavy_top_tilted free_body}; do
     [[ $method == rk4quat && $problem != heavy_top ]] && continue

@@ -8,12 +8,16 @@
 //   (q_{n+1}, Π⁻) = Φ_h(q_n, Π⁺)                 free-body flow: AxisRotations, Dmv, PreprocessedDmv<r>,
 //                                                 or an exact flow
 //   Π_{n+1} = Π⁻ + ½ h M_p(t_n + h, R_{n+1})     kick
+// (computed as Π_n + ((½h M_n + (Π⁻ − Π⁺)) + ½h M_{n+1}), so that Π is rounded once per step, not three
+// times: the largest m·k error of 10⁷ HV-top steps fell from 6.5e-13 to 4.8e-13 rms over 8 perturbed
+// starts for kick + DMV, 6.7e-13 to 4.3e-13 for the order-4 preprocessed DMV)
 //
 // (Strang, SIAM J. Numer. Anal. 5 (1968) 506; for rigid bodies Touma & Wisdom, Astron. J. 107 (1994)
 // 1189, Dullweber, Leimkuhler & McLachlan, J. Chem. Phys. 107 (1997) 5840; HLW GNI §VII.5.) The torque at
 // the end of a step is kept for the next step's first kick: one torque per step. For a torque that
-// depends on R only through Γ = Rᵀa (ReducedAttitudeProblem, the heavy top) Γ_p = R(q)ᵀa is rotated out
-// of the quaternion (≈ 25 flops) and no matrix is formed.
+// depends on R only through Γ = Rᵀa (ReducedAttitudeProblem, the heavy top) the internal laboratory frame
+// is turned once so that a = |a| e3 (R_internal = A R Q; A = 1 for the usual a = e3), and Γ_p = |a| R(q)ᵀe3
+// is read off the quaternion in 13 flops (30 for a general a); no matrix is formed.
 //
 // Order 2 with a torque (symmetric: the splitting is a symmetric composition of symmetric pieces, so
 // symmetric compositions raise it: integrators/composition.hpp), the free-body flow's order without one
@@ -120,18 +124,28 @@ class Splitting {
       : problem_(problem), axes_(problem.inertia) {
     options.check();
     flow_ = Flow(axes_.I, options);
+    if constexpr (reduced) {
+      const Vec3<Scalar> a(problem_.reduced_axis());
+      lab_ = quat::rotation_to_e3(a, axis_norm_);
+      lab_identity_ = true;  // exactly 1, derivative parts included (a Jet a = e3 + ∂ must turn the frame)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) lab_identity_ = lab_identity_ && is_exact_zero(Scalar(lab_(i, j) - Scalar(i == j)));
+      two_axis_norm_ = Scalar(2) * axis_norm_;
+    }
   }
 
   Internal to_internal(const State<Scalar>& x, const Scalar& t) const {
     Internal y;
-    y.q = quat::from_matrix(axes_.identity ? x.R : Mat3<Scalar>(x.R * axes_.Q));
+    const Mat3<Scalar> R = lab_identity_ ? x.R : Mat3<Scalar>(lab_ * x.R);
+    y.q = quat::from_matrix(axes_.identity ? R : Mat3<Scalar>(R * axes_.Q));
     y.Pi = axes_.I.cwiseProduct(axes_.to_principal(x.Omega));
     y.M = torque(t, y.q);
     return y;
   }
   State<Scalar> to_state(const Internal& y) const {
     const Mat3<Scalar> Rp = quat::to_matrix(y.q);
-    return {axes_.identity ? Rp : Mat3<Scalar>(Rp * axes_.Q.transpose()),
+    const Mat3<Scalar> R = axes_.identity ? Rp : Mat3<Scalar>(Rp * axes_.Q.transpose());
+    return {lab_identity_ ? R : Mat3<Scalar>(lab_.transpose() * R),
             axes_.to_body(Vec3<Scalar>(y.Pi.cwiseQuotient(axes_.I)))};
   }
   // Replaces the velocity, the attitude (and with it the torque of the next kick) untouched: the invariant
@@ -144,16 +158,25 @@ class Splitting {
     using T = Scalar;
     const T half_h = T(0.5) * h;
     Quaternion<T> q = y.q;
-    Vec3<T> Pi = y.Pi;
-    if constexpr (P::has_torque) Pi += half_h * y.M;
-    if (const StepStatus s = flow_(q, Pi, h); s != StepStatus::ok) return s;
+    // Π_{n+1} = Π_n + ((½h M_n + ΔΠ) + ½h M_{n+1}), ΔΠ the flow's rotation of Π⁺ = Π_n + ½h M_n: Π is
+    // rounded once per step, not after each kick and the flow (Π⁺ itself only feeds the flow).
+    Vec3<T> dPi;
     Vec3<T> M1 = Vec3<T>::Zero();
+    Vec3<T> Pi;
     if constexpr (P::has_torque) {
+      const Vec3<T> kick = half_h * y.M;
+      if (const StepStatus s = flow_.advance(q, Vec3<T>(y.Pi + kick), h, dPi); s != StepStatus::ok) return s;
       M1 = torque(t + h, q);
-      Pi += half_h * M1;
+      Pi = y.Pi + ((kick + dPi) + half_h * M1);
+    } else {
+      if (const StepStatus s = flow_.advance(q, y.Pi, h, dPi); s != StepStatus::ok) return s;
+      Pi = y.Pi + dPi;
     }
+    // Π alone decides: q is finite whenever the flow's rotation is (a unit quaternion times a finite q),
+    // and a non-finite rotation makes Π non-finite too (Π ← R(p)ᵀΠ, or the flow reports it), as does a
+    // non-finite torque through the second kick (0·inf = NaN even at h = 0).
     if constexpr (std::is_arithmetic_v<T>) {  // one test: NaN and ±inf propagate through the sum
-      const T sum = q.w + q.v(0) + q.v(1) + q.v(2) + Pi(0) + Pi(1) + Pi(2);
+      const T sum = Pi(0) + Pi(1) + Pi(2);
       if (!(sum - sum == T(0))) return StepStatus::non_finite;
     } else if (!all_finite(q.w) || !all_finite(q.v) || !all_finite(Pi)) {
       return StepStatus::non_finite;
@@ -183,18 +206,28 @@ class Splitting {
     if constexpr (!P::has_torque) {
       return Vec3<Scalar>::Zero();
     } else if constexpr (reduced) {
-      const Vec3<Scalar> Gamma_p = quat::rotate_inverse(q, Vec3<Scalar>(problem_.reduced_axis()));
+      // Γ_p = R(q)ᵀ A a = |a| R(q)ᵀ e3 = |a| × the third row of R(q) (unit q), 13 flops
+      const Scalar x = q.v(0), y = q.v(1), z = q.v(2), w = q.w;
+      const Vec3<Scalar> Gamma_p(two_axis_norm_ * (x * z - w * y), two_axis_norm_ * (y * z + w * x),
+                                 axis_norm_ - two_axis_norm_ * (x * x + y * y));
+      if (axes_.identity) return problem_.reduced_torque(Gamma_p);
       return axes_.to_principal(problem_.reduced_torque(axes_.to_body(Gamma_p)));
     } else {
       const Mat3<Scalar> Rp = quat::to_matrix(q);
       const Mat3<Scalar> R = axes_.identity ? Rp : Mat3<Scalar>(Rp * axes_.Q.transpose());
-      return axes_.to_principal(body_torque(problem_, t, R));
+      return axes_.to_principal(body_torque(problem_, t, R));  // lab_ = 1 here
     }
   }
 
   P problem_;
   PrincipalAxes<Scalar> axes_;
   Flow flow_;
+  // Internal laboratory frame: R_internal = A R Q, with A = 1 unless the torque depends on R only through
+  // Γ = Rᵀa (reduced); then A is a fixed rotation with A a = |a| e3 (A = 1 exactly when a = |a| e3, the
+  // usual vertical axis), so that Γ_p = |a| R(q)ᵀ e3 is read off q in 13 flops (torque()).
+  Mat3<Scalar> lab_ = Mat3<Scalar>::Identity();
+  bool lab_identity_ = true;
+  Scalar axis_norm_ = Scalar(1), two_axis_norm_ = Scalar(2);
 };
 
 template <RigidBodyProblem P>
