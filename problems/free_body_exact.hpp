@@ -233,6 +233,16 @@ struct Jacobi {
 // ascent is rational: cn keeps
 // an absolute error of a few ε where sn ≈ ±1. (The AGM form with asin((c_n/a_n) sin ϕ_n), Boost's, loses
 // accuracy there: asin's argument tends to 1; measured in the tests.)
+// sech u = 2e^{−|u|}/(1 + e^{−2|u|}): 1/cosh u overflows cosh for |u| > 11356 (long double; 710 in double) on
+// long separatrix runs — an ∞ that the tests' floating-point traps catch; this form underflows to 0 instead.
+template <class W>
+W sech(const W& u) {
+  using std::abs;
+  using std::exp;
+  const W e = exp(-abs(u));
+  return W(2) * e / (W(1) + e * e);
+}
+
 template <class W>
 Jacobi<W> jacobi(const W& u, const W& k, const W& kc) {
   using std::cos;
@@ -240,7 +250,7 @@ Jacobi<W> jacobi(const W& u, const W& k, const W& kc) {
   using std::sin;
   using std::sqrt;
   using std::tanh;
-  if (!(kc > 0)) return {tanh(u), W(1) / cosh(u), W(1) / cosh(u)};  // κ = 1
+  if (!(kc > 0)) return {tanh(u), sech(u), sech(u)};  // κ = 1
   constexpr int max_levels = 16;
   W r[max_levels], one_minus_r[max_levels];  // k_{n+1}, 1 − k_{n+1}
   const W small = sqrt(std::numeric_limits<W>::epsilon());
@@ -440,7 +450,7 @@ class FreeBodyExact {
       using std::cosh;
       using std::tanh;
       const W u = u0_ + lambda_ * t;
-      const W th = tanh(u), se = W(1) / cosh(u);
+      const W th = tanh(u), se = free_body_exact_detail::sech(u);
       m(0) = sigma1_ * A_(0) * se;
       m(1) = G_ * th;
       m(2) = sigma3_ * A_(2) * se;

@@ -9,6 +9,7 @@
 //    (compensated), against the same formulas evaluated in 113-bit arithmetic (Boost.Multiprecision);
 //  - the Jacobi functions and Π against Boost.Math, and near the separatrix against 113-bit Boost;
 //  - cost per call and no heap allocation.
+#include "fp_traps.hpp"
 #include "test_problems.hpp"
 
 #include <lgi/core/invariants.hpp>
@@ -777,6 +778,7 @@ TEST(FreeBodyExact, NoAllocation) {
 
 // ---------------------------------------------------------------------------------------------------
 TEST(FreeBodyExact, EdgeCasesAndInvalidInput) {
+  const test::FpTrapsOff traps_off;  // NaN inputs on purpose: they must be rejected
   // A zero step is the identity, bit for bit (increments are exactly zero), off the separatrix.
   for (const Case& c : regime_cases()) {
     const FreeBodyExact<double> exact(c.J);

@@ -5,6 +5,8 @@
 // Inputs sit on every branch point of so3.hpp: θ = 0, 1e-8, the Taylor threshold θ² = 1e-2 (below, at,
 // above), log's switch at π/2 and its own threshold sin²θ = 1e-2, and π; along axis-aligned and oblique
 // axes. Tolerances are in units of ε = 2.2e-16 unless the quantity is ill-conditioned (stated where so).
+#include "fp_traps.hpp"
+
 #include <lgi/core/so3.hpp>
 
 #include <Eigen/Geometry>
@@ -457,6 +459,7 @@ TEST(So3JetTest, DerivativesAtZeroAreExact) {
 // value_of reads the value part, through nested Jets too; all_finite, unlike ceres::isfinite, also
 // looks at the derivative parts, alone and inside matrices.
 TEST(ScalarHelpers, ValueOfAndAllFinite) {
+  const test::FpTrapsOff traps_off;  // NaN and ∞ made on purpose: all_finite must see them
   using Nested = ceres::Jet<ceres::Jet<double, 2>, 1>;
   EXPECT_EQ(value_of(2.5), 2.5);
   EXPECT_EQ(value_of(Jet3(1.5, 2)), 1.5);
