@@ -222,6 +222,20 @@ FitResult<P> collect(Model<Method, P, N>& model, ceres::Problem& problem, const 
   return res;
 }
 
+// Builds the Ceres problem of `model`, solves it and collects the result (the caller sets `usable`).
+template <template <class> class Method, RigidBodyProblem P, int N>
+FitResult<P> solve(Model<Method, P, N>& model, const SolverOptions& solver, bool covariance) {
+  ceres::Problem::Options po;
+  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem cp(po);
+  model.add_to(cp);
+  const auto start = std::chrono::steady_clock::now();
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options(solver), &cp, &summary);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return collect(model, cp, summary, covariance, seconds);
+}
+
 }  // namespace detail
 
 // Fits the unknowns to the observations. `problem` and `initial` are the base scene (the initial guesses of
@@ -272,16 +286,8 @@ FitResult<P> fit_observations(const P& problem, const State<double>& initial, st
   mo.t_end = options.t_end;
   mo.stepper = options.stepper;
   Model<Method, P, N> model(problem, initial, unknowns, observations, mo);
-  ceres::Problem::Options po;
-  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem cp(po);
-  model.add_to(cp);
-  const auto start = std::chrono::steady_clock::now();
-  ceres::Solver::Summary summary;
-  ceres::Solve(detail::solver_options(options.solver), &cp, &summary);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  FitResult<P> res = detail::collect(model, cp, summary, options.compute_covariance, seconds);
-  res.usable = summary.termination_type == ceres::CONVERGENCE && std::isfinite(res.final_cost) &&
+  FitResult<P> res = detail::solve(model, options.solver, options.compute_covariance);
+  res.usable = res.termination == ceres::CONVERGENCE && std::isfinite(res.final_cost) &&
                (!options.compute_covariance || res.covariance_ok);
   return res;
 }
@@ -297,15 +303,7 @@ FitResult<P> fit_periodic(const P& problem, const State<double>& initial, double
   mo.stepper = options.stepper;
   mo.symmetry = options.symmetry;
   Model<Method, P, N> model(problem, initial, unknowns, {}, mo, period, phase);
-  ceres::Problem::Options po;
-  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem cp(po);
-  model.add_to(cp);
-  const auto start = std::chrono::steady_clock::now();
-  ceres::Solver::Summary summary;
-  ceres::Solve(detail::solver_options(options.solver), &cp, &summary);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  FitResult<P> res = detail::collect(model, cp, summary, false, seconds);
+  FitResult<P> res = detail::solve(model, options.solver, false);
   res.usable = std::isfinite(res.final_cost) && res.max_residual <= options.tolerance;
   return res;
 }

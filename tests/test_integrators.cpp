@@ -1,5 +1,6 @@
 // Integrators, measured: observed convergence order against the declared one, exact steady rotation,
 // Jets through every integrator against finite differences, implicit-step failure as a status.
+#include "jet_check.hpp"
 #include "test_problems.hpp"
 
 #include <lgi/core/driver.hpp>
@@ -113,45 +114,9 @@ TYPED_TEST(IntegratorTest, SteadyRotationIsExactWithRotatedInertia) {
 // Jets flow through every integrator: the derivative of the state after 50 steps with respect to Ω0 and
 // to the parameter b, carried by ceres::Jet, equals central finite differences.
 TYPED_TEST(IntegratorTest, JetDerivativesMatchFiniteDifferences) {
-  using Jet = ceres::Jet<double, 4>;  // ∂/∂Ω0 (3), ∂/∂b (1)
-  using SJ = typename TypeParam::template type<HeavyTop<Jet>>;
-  using SD = typename TypeParam::template type<HeavyTop<double>>;
-  const auto problem = test::skew_heavy_top();
-  const State<double> x0 = test::skew_initial_state();
-  const double h = 0.02, T = 1.0;
-
-  auto jet_problem = problem.cast<Jet>();
-  jet_problem.b.v[3] = 1;
-  State<Jet> xj = x0.cast<Jet>();
-  for (int i = 0; i < 3; ++i) xj.Omega[i].v[i] = 1;
-  SJ jet_stepper(jet_problem);
-  ASSERT_EQ(integrate_to(jet_stepper, xj, Jet(0), Jet(h), Jet(T)).status, RunStatus::completed);
-
-  const auto run = [&](const Vec3<double>& dOmega, double db) {
-    auto p = problem;
-    p.b += db;
-    State<double> x = x0;
-    x.Omega += dOmega;
-    SD stepper(p);
-    integrate_to(stepper, x, 0.0, h, T);
-    return x;
-  };
-  const double eps = 1e-6;
-  for (int j = 0; j < 4; ++j) {
-    const Vec3<double> d = j < 3 ? Vec3<double>(eps * Vec3<double>::Unit(j)) : Vec3<double>::Zero();
-    const double db = j == 3 ? eps : 0.0;
-    const State<double> plus = run(d, db), minus = run(-d, -db);
-    for (int r = 0; r < 3; ++r) {
-      EXPECT_NEAR(xj.Omega[r].v[j], (plus.Omega[r] - minus.Omega[r]) / (2 * eps), 1e-7) << "dΩ" << r << "/dp" << j;
-      for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(xj.R(r, c).v[j], (plus.R(r, c) - minus.R(r, c)) / (2 * eps), 1e-7) << "dR/dp" << j;
-    }
-    ASSERT_TRUE(all_finite(xj.R) && all_finite(xj.Omega));
-  }
   // The value part is the double computation to round-off (not bit for bit: Eigen vectorises double
   // products with another summation order, and the LGVI takes one more Newton update for Jets).
-  const State<double> plain = run(Vec3<double>::Zero(), 0.0);
-  for (int r = 0; r < 3; ++r) EXPECT_NEAR(xj.Omega[r].a, plain.Omega[r], 1e-14);
+  test::expect_heavy_top_jets_match<TypeParam::template type>(/*h=*/0.02, /*T=*/1.0, /*value_tol=*/1e-14);
 }
 
 // A Jet that carries ∂/∂J01 through a diagonal-valued inertia: the integrators must not take their
