@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -13,9 +15,83 @@
 
 namespace lgi::app {
 
+namespace {
+
+// The first `n` bytes of s, backed up to the start of a UTF-8 character.
+std::string_view utf8_prefix(std::string_view s, std::size_t n) {
+  if (s.size() <= n) return s;
+  while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;  // s[n]: a continuation byte
+  return s.substr(0, n);
+}
+
+constexpr std::size_t max_echo = 40;  // bytes of an input string echoed in a message
+
+std::string cut(std::string_view s) {
+  return s.size() <= max_echo ? std::string(s) : std::string(utf8_prefix(s, max_echo - 3)) + "...";
+}
+
+// The last bytes of s (at most max_echo - 3), starting at a UTF-8 character.
+std::string tail(std::string_view s) {
+  std::size_t begin = s.size() > max_echo - 3 ? s.size() - (max_echo - 3) : 0;
+  while (begin < s.size() && (static_cast<unsigned char>(s[begin]) & 0xC0) == 0x80) ++begin;
+  return std::string(s.substr(begin));
+}
+
+// The length of the UTF-8 character at s[i] (2 to 4 bytes, lead and continuation bytes checked), 0 if
+// the bytes there are not one.
+std::size_t utf8_length(const std::string& s, std::size_t i) {
+  const auto u = static_cast<unsigned char>(s[i]);
+  const std::size_t n = u >= 0xC2 && u <= 0xDF ? 2 : u >= 0xE0 && u <= 0xEF ? 3 : u >= 0xF0 && u <= 0xF4 ? 4 : 0;
+  if (n == 0 || i + n > s.size()) return 0;
+  for (std::size_t k = 1; k < n; ++k)
+    if ((static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return 0;
+  return n;
+}
+
+// The message with control characters escaped as in JSON (\n, \t, \u001b, ...) and bytes that are not
+// UTF-8 as \xNN (a file name, or nlohmann's "last read" of an ill-formed file): one line of text.
+std::string one_line(const std::string& message) {
+  std::string out;
+  out.reserve(message.size());
+  for (std::size_t i = 0; i < message.size(); ++i) {
+    const char c = message[i];
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x80) {
+      const std::size_t n = utf8_length(message, i);
+      if (n == 0) {
+        char buf[8];
+        std::snprintf(buf, sizeof buf, "\\x%02X", u);
+        out += buf;
+      } else {
+        out.append(message, i, n);
+        i += n - 1;
+      }
+    } else if (u >= 0x20 && u != 0x7f) {
+      out += c;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", u);
+      out += buf;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+InputError::InputError(const std::string& message) : std::runtime_error(one_line(message)) {}
+
+std::string quoted_input(std::string_view s) { return "\"" + cut(s) + "\""; }
+
 std::string pointer_token(std::string_view key) {
   std::string out;
-  for (const char c : key) {
+  for (const char c : cut(key)) {
     if (c == '~')
       out += "~0";
     else if (c == '/')
@@ -41,11 +117,7 @@ std::string describe(const json& v) {
   switch (v.type()) {
     case json::value_t::null: return "null";
     case json::value_t::boolean: return v.get<bool>() ? "true" : "false";
-    case json::value_t::string: {
-      std::string s = v.get<std::string>();
-      if (s.size() > 40) s = s.substr(0, 37) + "...";
-      return "a string (\"" + s + "\")";
-    }
+    case json::value_t::string: return "a string (" + quoted_input(v.get_ref<const std::string&>()) + ")";
     case json::value_t::number_integer:
     case json::value_t::number_unsigned:
     case json::value_t::number_float: return "the number " + format_number(v.get<double>());
@@ -88,20 +160,31 @@ class TrackingSax {
   bool boolean(bool b) { return value(dom_.boolean(b)); }
   bool number_integer(number_integer_t i) { return value(dom_.number_integer(i)); }
   bool number_unsigned(number_unsigned_t u) { return value(dom_.number_unsigned(u)); }
-  bool number_float(number_float_t f, const string_t& s) { return value(dom_.number_float(f, s)); }
+  bool number_float(number_float_t f, const string_t& s) {
+    // nlohmann reads 1e-400 as 0 without a word: a literal with a non-zero digit before its exponent
+    // that reads as zero underflowed (denormals are kept: they are only less precise).
+    if (f == 0 && s.substr(0, s.find_first_of("eE")).find_first_of("123456789") != std::string::npos) {
+      error_ = "number " + s + " is too small for a double (it would read as 0)";
+      error_pointer_ = pointer();
+      located_ = true;
+      return false;
+    }
+    return value(dom_.number_float(f, s));
+  }
   bool string(string_t& s) { return value(dom_.string(s)); }
   bool binary(binary_t& b) { return value(dom_.binary(b)); }
 
   bool start_object(std::size_t n) {
     if (too_deep()) return false;
-    frames_.push_back({true, {}, 0, {}});
+    frames_.push_back({true, {}, false, 0, {}});
     return dom_.start_object(n);
   }
   bool key(string_t& k) {
     Frame& f = frames_.back();
     f.key = k;
+    f.has_key = true;
     if (!f.keys.insert(k).second) {
-      error_ = "duplicate key \"" + k + "\"";
+      error_ = "duplicate key " + quoted_input(k);
       error_pointer_ = pointer(frames_.size() - 1);  // the object holding the key twice
       located_ = true;
       return false;
@@ -114,7 +197,7 @@ class TrackingSax {
   }
   bool start_array(std::size_t n) {
     if (too_deep()) return false;
-    frames_.push_back({false, {}, 0, {}});
+    frames_.push_back({false, {}, false, 0, {}});
     return dom_.start_array(n);
   }
   bool end_array() {
@@ -131,8 +214,13 @@ class TrackingSax {
     else if (const auto bracket = what.find("] "); bracket != std::string::npos)
       what = what.substr(bracket + 2);
     if (ex.id == 406) {
-      what = "number " + token + " is out of the range of a double";
+      what = "number " + cut(token) + " is out of the range of a double";
       located_ = true;
+    }
+    // nlohmann quotes the whole last token, which may be megabytes (of whitespace, say): keep its end.
+    if (const std::string read = "last read: '" + token + "'"; token.size() > max_echo) {
+      if (const auto at = what.find(read); at != std::string::npos)
+        what.replace(at, read.size(), "last read: '..." + tail(token) + "'");
     }
     error_ = what;
     return false;
@@ -148,6 +236,8 @@ class TrackingSax {
   struct Frame {
     bool object;
     std::string key;
+    bool has_key;  // an object: between a key and the end of its value (a syntax error before the next key is
+                   // in the object, not in the previous key's value)
     std::size_t index;
     std::set<std::string> keys;
   };
@@ -163,12 +253,14 @@ class TrackingSax {
   // After a complete value: the enclosing array moves on to its next element.
   bool value(bool ok) {
     if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+    if (!frames_.empty() && frames_.back().object) frames_.back().has_key = false;
     return ok;
   }
   std::string pointer(std::size_t depth = std::string::npos) const {
     std::string p;
     for (std::size_t i = 0; i < std::min(depth, frames_.size()); ++i) {
       const Frame& f = frames_[i];
+      if (f.object && !f.has_key) break;
       p += '/';
       p += f.object ? pointer_token(f.key) : std::to_string(f.index);
     }
@@ -182,20 +274,58 @@ class TrackingSax {
   bool located_ = false;
 };
 
+// What JSON does not have that scene files are written with: a hint from the text where the parser stopped
+// and nlohmann's message.
+std::string syntax_hint(const std::string& text, std::size_t at, const std::string& error) {
+  if (at >= text.size()) return {};
+  const auto word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '+'; };
+  std::size_t begin = at, end = at;
+  while (begin > 0 && word_char(text[begin - 1])) --begin;
+  while (end < text.size() && word_char(text[end])) ++end;
+  std::string word;
+  for (const char c : text.substr(begin, end - begin))
+    if (c != '-' && c != '+') word += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (word == "nan" || word == "inf" || word == "infinity")
+    return " (NaN and Infinity are not JSON numbers, and a scene's numbers must be finite)";
+  if (text[at] == '/' || text[at] == '#') return " (JSON has no comments)";
+  if (text[at] == '\'') return " (JSON strings and keys take double quotes)";
+  if (text[at] == '}' || text[at] == ']') {
+    const auto before = text.find_last_not_of(" \t\r\n", at == 0 ? 0 : at - 1);
+    if (at > 0 && before != std::string::npos && text[before] == ',') return " (JSON has no trailing commas)";
+  }
+  if (error.find("parsing object key - invalid literal") != std::string::npos)
+    return " (JSON keys are strings in double quotes)";
+  return {};
+}
+
 }  // namespace
 
 json parse_json(const std::string& text, const std::string& file) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw InputError(file + ": the file is empty");
+  // A UTF-8 byte order mark is skipped (RFC 8259 §8.1 allows it); UTF-16 and UTF-32 are not JSON text.
+  for (const std::string_view bom : {std::string_view("\xFF\xFE"), std::string_view("\xFE\xFF")})  // UTF-32LE too
+    if (std::string_view(text).substr(0, bom.size()) == bom)
+      throw InputError(file + ": the file is UTF-16 or UTF-32 (it starts with a byte order mark): save it as UTF-8");
+  // nlohmann stops at a NUL byte as at the end of the input: what follows would be ignored unread.
+  if (const auto nul = text.find('\0'); nul != std::string::npos) {
+    const auto [line, col] = line_column(text, nul);
+    throw InputError(file + ":" + std::to_string(line) + ":" + std::to_string(col) +
+                     ": invalid JSON: a NUL byte (JSON text has none)");
+  }
   json root;
   TrackingSax sax(root);
   const bool ok = json::sax_parse(text, &sax, json::input_format_t::json, /*strict=*/true);
   if (!ok) {
-    const auto [line, col] = line_column(text, sax.position() > 0 ? sax.position() - 1 : 0);
+    const std::size_t at = sax.position() > 0 ? sax.position() - 1 : 0;  // the byte the parser stopped at
+    const auto [line, col] = line_column(text, at);
     const std::string position = std::to_string(line) + ":" + std::to_string(col);
     if (sax.located())  // a bad value at a known path: "<file>: <path>: <what> (line:column)"
       throw InputError(file + ": " + (sax.error_pointer().empty() ? "/" : sax.error_pointer()) + ": " + sax.error() +
                        (sax.position() > 0 ? " (at " + position + ")" : ""));
-    throw InputError(file + ":" + position + ": invalid JSON: " + sax.error());
+    // A syntax error: "<file>:<line>:<column>: invalid JSON [in <path>]: <what>[ (hint)]".
+    throw InputError(file + ":" + position + ": invalid JSON" +
+                     (sax.error_pointer().empty() ? "" : " in " + sax.error_pointer()) + ": " + sax.error() +
+                     syntax_hint(text, at, sax.error()));
   }
   return root;
 }

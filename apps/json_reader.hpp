@@ -2,9 +2,11 @@
 //
 // Every error is an InputError whose message reads "<file>: <JSON pointer>: <what is wrong>" (or
 // "<file>:<line>:<column>: ..." for syntax errors), thrown before any output is produced. The parser
-// rejects duplicate keys (nlohmann accepts them silently), reports numbers that overflow a double with
-// their path and position, and refuses files larger than `max_input_bytes` or nested deeper than
-// `max_json_depth`. Numbers are read as doubles
+// rejects duplicate keys (nlohmann accepts them silently), reports numbers that overflow a double (or
+// underflow to 0) with their path and position, NUL bytes (nlohmann would stop reading there) and UTF-16/32
+// files, and refuses files larger than `max_input_bytes` or nested deeper than `max_json_depth`. A UTF-8
+// byte order mark is skipped. Syntax errors name the JSON path they occur in and, for NaN, comments,
+// single quotes and trailing commas, say what JSON lacks. Numbers are read as doubles
 // and range-checked, integers included (a JSON 1e300 or 2.7 is never cast to an integer).
 #pragma once
 
@@ -24,10 +26,11 @@ namespace lgi::app {
 
 using json = nlohmann::json;
 
-// Bad input: the message names the file, the JSON path and the problem.
+// Bad input: the message names the file, the JSON path and the problem. It is one line: control
+// characters that came from the input (a key "a\nb", a string with a tab) are escaped as in JSON.
 class InputError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit InputError(const std::string& message);
 };
 
 inline constexpr std::size_t max_input_bytes = 64u << 20;
@@ -75,10 +78,14 @@ class Node {
   const std::string& file_;
 };
 
-// A JSON pointer token with '~' and '/' escaped (RFC 6901).
+// A JSON pointer token with '~' and '/' escaped (RFC 6901), for messages: a key longer than 40 bytes is
+// cut as by quoted_input().
 std::string pointer_token(std::string_view key);
 // A short description of a JSON value for messages: "a string (\"fast\")", "an array of 2", ...
 std::string describe(const json& v);
+// A string from the input, quoted for a message and cut to at most 40 bytes (at a UTF-8 character
+// boundary, "..." appended): a key or name of a megabyte gives a message of one line, not a megabyte.
+std::string quoted_input(std::string_view s);
 // A double formatted with up to 17 significant digits, shortest form that reads back the same.
 std::string format_number(double x);
 

@@ -14,9 +14,11 @@
 #include <array>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
+#include <span>
 #include <string>
 
 namespace lgi::app {
@@ -30,28 +32,52 @@ namespace runner_detail {
 
 using Clock = std::chrono::steady_clock;
 
-// Formats one CSV row into a fixed buffer: no allocation per row.
+// Formats one CSV row into a fixed buffer: no allocation per row. A row with a column that is not finite is
+// not written (counted, with the time of the first): no NaN or infinity reaches the output.
 class RowWriter {
  public:
   explicit RowWriter(std::FILE* out) : out_(out) {}
   void add(double x) {
-    if (n_ > 0) buf_[n_++] = ',';
+    if (n_ == 0) row_t_ = x;  // the first column is t
+    else buf_[n_++] = ',';
+    finite_ = finite_ && std::isfinite(x);
     n_ = static_cast<std::size_t>(
         std::to_chars(buf_.data() + n_, buf_.data() + buf_.size(), x, std::chars_format::general, 17).ptr -
         buf_.data());
   }
   void end_row() {
     buf_[n_++] = '\n';
-    if (std::fwrite(buf_.data(), 1, n_, out_) != n_) failed_ = true;
+    if (!finite_) {
+      if (not_finite_++ == 0) first_not_finite_t_ = row_t_;
+    } else if (std::fwrite(buf_.data(), 1, n_, out_) != n_) {
+      failed_ = true;
+    } else {
+      has_row_ = true;
+      last_t_ = row_t_;
+    }
     n_ = 0;
+    finite_ = true;
   }
   bool failed() const { return failed_; }
+  // The time of the last row written (a resumed run: from its checkpoint).
+  bool has_row() const { return has_row_; }
+  double last_t() const { return last_t_; }
+  void set_last_row(bool has, double t) {
+    has_row_ = has;
+    last_t_ = t;
+  }
+  std::int64_t not_finite() const { return not_finite_; }
+  double first_not_finite_t() const { return first_not_finite_t_; }
 
  private:
   std::FILE* out_;
   std::array<char, 2048> buf_{};
   std::size_t n_ = 0;
   bool failed_ = false;
+  bool finite_ = true;
+  bool has_row_ = false;
+  double row_t_ = 0, last_t_ = 0, first_not_finite_t_ = 0;
+  std::int64_t not_finite_ = 0;
 };
 
 template <class P>
@@ -64,29 +90,44 @@ std::string header_for() {
   return h;
 }
 
-// The monitor: stops the run when asked (signals), and shows progress on stderr at most four times a
-// second once a run has taken more than a second.
-struct Progress {
-  bool enabled;
-  std::int64_t total;
-  const volatile std::sig_atomic_t* stop;
-  Clock::time_point start = Clock::now(), last = start;
-  bool printed = false;
-  bool operator()(std::int64_t steps) {
-    if (stop && *stop != 0) return false;
-    if (!enabled) return true;
-    const auto now = Clock::now();
-    if (now - start < std::chrono::seconds(1) || now - last < std::chrono::milliseconds(250)) return true;
-    last = now;
-    printed = true;
-    std::fprintf(stderr, "\r  %5.1f %%  %lld of %lld steps", 100.0 * static_cast<double>(steps) / static_cast<double>(total),
-                 static_cast<long long>(steps), static_cast<long long>(total));
-    std::fflush(stderr);
-    return true;
-  }
-  void finish() const {
-    if (printed) std::fprintf(stderr, "\r%60s\r", "");
-  }
+// The monitor of one invocation (called every 1024 steps; adaptive runs: 1024 attempted steps): stops the run
+// on a signal or when the wall-clock budget is spent, shows progress on stderr at most four times a second once
+// a run has taken more than a second, flushes the rows every RunOptions::flush_seconds, and says when a
+// checkpoint is due. One clock read per call: nothing per step.
+class SessionMonitor {
+ public:
+  enum class Action { proceed, stop, checkpoint };
+  // total: the steps the run takes (0: no progress line); steps: those taken before this invocation.
+  SessionMonitor(const RunOptions& options, const Scene& scene, std::int64_t total, std::int64_t steps);
+  Action check(std::int64_t steps);
+  void checkpointed(std::int64_t steps);  // a checkpoint was written: the interval starts again
+  void finish() const;                    // clears the progress line
+  StopReason reason() const { return reason_; }
+
+ private:
+  const RunOptions& options_;
+  double max_wall_seconds_;
+  std::int64_t total_;
+  Clock::time_point start_ = Clock::now(), last_progress_ = start_, last_flush_ = start_, last_checkpoint_ = start_;
+  std::int64_t checkpoint_steps_;
+  bool printed_ = false;
+  StopReason reason_ = StopReason::none;
 };
+
+// Writes a run's checkpoints (runner_checkpoint.hpp) with what the runner knows at the time; a failure is a
+// warning on stderr (once) and RunReport::checkpoint_error, and the run goes on.
+class Checkpointer {
+ public:
+  Checkpointer(const RunOptions& options, const Scene& scene) : options_(options), scene_(scene) {}
+  bool enabled() const { return !options_.checkpoint_path.empty(); }
+  // Flushes and fsyncs the rows, then writes the checkpoint for cursor c and the stepper's numbers.
+  bool write(const Cursor& c, std::span<const double> internal, double t, const State<double>& x, const RowWriter& rows,
+             RunReport& report);
+
+ private:
+  const RunOptions& options_;
+  const Scene& scene_;
+};
+
 }  // namespace runner_detail
 }  // namespace lgi::app

@@ -4,12 +4,15 @@
 #pragma once
 
 #include "runner_detail.hpp"
+#include "runner_drive.hpp"
 
 #include <lgi/core/invariants.hpp>
 #include <lgi/integrators/adaptive.hpp>
 #include <lgi/integrators/projection.hpp>
 
+#include <array>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <stdexcept>
 #include <vector>
@@ -17,76 +20,156 @@
 namespace lgi::app {
 namespace runner_detail {
 
-// An adaptive run (the scene gave rtol and atol): output times from the dense output, output.every N as every
-// N accepted steps, dt the initial step. The summary's steps are the accepted ones.
-template <class S, class Observer>
-IntegrationSummary run_adaptive(S& stepper, State<double>& x, const Scene& scene, Observer& observe,
-                                const RunOptions& options) {
+// The stepper's numbers (runner_checkpoint.hpp), for a checkpoint.
+template <class Internal>
+std::array<double, internal_size<Internal>()> numbers_of(const Internal& y) {
+  std::array<double, internal_size<Internal>()> a{};
+  std::size_t i = 0;
+  for_each_number(y, [&](const double& v) { a[i++] = v; });
+  return a;
+}
+
+// One invocation of a run, fresh or resumed, through the drivers of runner_drive.hpp: rows at the output times
+// (row(t, y), y nullptr for the initial state), the monitor (signals, wall-clock budget, flushing, periodic
+// checkpoints), and where the run ends early — a failed step, a signal, a budget — a checkpoint (signal or budget,
+// when asked for) and a last row with the last good state. S: a Stepper, or an AdaptiveStepper when the scene
+// gave rtol and atol; to_state(y) for the checkpoint's readable state and the report.
+// y: the initial state on entry, the last good state on return; returns whether y moved (else: use the initial
+// state as given, no round trip through the stepper's coordinates).
+template <class S, class Row>
+bool run_session(S& stepper, typename S::Internal& y, const Scene& scene, const RunOptions& options, Row& row,
+                 RowWriter& rows, RunReport& report) {
+  using Internal = typename S::Internal;
+  constexpr bool can_adapt = AdaptiveStepper<S>;
+  const bool adaptive = scene.options.rtol > 0;
+  if (adaptive && !can_adapt) throw std::logic_error("lgi: rtol given to a method without an embedded pair");
+
+  // adaptive runs: the output times (t_end included), options.every N as every N accepted steps
   std::vector<double> times = scene.output_times;
   if (times.empty() || times.back() < scene.t_end) times.push_back(scene.t_end);
-  AdaptiveOptions adaptive;
-  if (scene.output_times.empty() && scene.output_every > 0) adaptive.every = scene.output_every;
-  Progress monitor{false, 0, options.stop};  // interruption only: there is no step total to show progress against
-  const AdaptiveSummary a =
-      integrate_adaptive(stepper, x, 0.0, scene.dt, std::span<const double>(times), observe, adaptive, monitor);
+  AdaptiveOptions adaptive_options;
+  if (scene.output_times.empty() && scene.output_every > 0) adaptive_options.every = scene.output_every;
+  adaptive_options.check();
+
+  Cursor c;
+  if (const Checkpoint* ck = options.resume) {
+    if (ck->internal.size() != internal_size<Internal>() || ck->cursor.adaptive != adaptive)
+      throw InputError(options.checkpoint_path + ": /internal: " + std::to_string(ck->internal.size()) +
+                       " numbers for a stepper of method " + std::string(scene.method->traits.name) + " that keeps " +
+                       std::to_string(internal_size<Internal>()) + (adaptive ? " (adaptive)" : " (fixed steps)") +
+                       ": written by another version of lgi?");
+    std::size_t i = 0;
+    for_each_number(y, [&](double& v) { v = ck->internal[i++]; });
+    c = ck->cursor;
+    rows.set_last_row(ck->has_last_row, ck->last_row_t);
+  } else {
+    row(0.0, static_cast<const Internal*>(nullptr));
+    if (adaptive) {
+      c = adaptive_start(scene.dt, adaptive_options);
+      while (static_cast<std::size_t>(c.next) < times.size() && times[static_cast<std::size_t>(c.next)] == 0.0) ++c.next;
+    }
+  }
+  const Cursor start = c;
+
+  SessionMonitor session(options, scene, adaptive ? 0 : report.expected_steps, c.steps);
+  Checkpointer checkpointer(options, scene);
+  const auto checkpoint = [&](const Cursor& at, const Internal& z) {
+    const auto numbers = numbers_of(z);
+    const double t = at.adaptive ? at.t : static_cast<double>(at.n) * scene.dt;
+    const bool ok = checkpointer.write(at, numbers, t, stepper.to_state(z), rows, report);
+    if (ok) session.checkpointed(at.steps);
+    return ok;
+  };
+  const auto monitor = [&](const Cursor& at, const Internal& z) {
+    switch (session.check(at.steps)) {
+      case SessionMonitor::Action::stop: return false;
+      case SessionMonitor::Action::checkpoint: checkpoint(at, z); return true;
+      case SessionMonitor::Action::proceed: break;
+    }
+    return true;
+  };
+
   IntegrationSummary summary;
-  summary.status = a.status;
-  summary.step_status = a.step_status;
-  summary.steps = a.accepted;
-  summary.t = a.t;
-  return summary;
+  bool moved = false;
+  Halt halt = Halt::none;
+  const auto clock_start = Clock::now();
+  if constexpr (can_adapt) {
+    if (adaptive) {
+      const std::int64_t budget = scene.max_steps > 0 ? scene.max_steps : adaptive_options.max_steps;
+      halt = drive_adaptive(stepper, y, std::span<const double>(times), adaptive_options, start.attempts + budget, c,
+                            summary, moved, row, monitor);
+    }
+  }
+  if (!adaptive) {
+    const std::int64_t limit =
+        scene.max_steps > 0 ? start.steps + scene.max_steps : std::numeric_limits<std::int64_t>::max();
+    if (!scene.output_times.empty()) {
+      const GridEvents events(std::span<const double>(times), scene.dt);
+      halt = drive_grid(stepper, y, scene.dt, events, limit, c, summary, moved, row, monitor);
+    } else {
+      const std::int64_t every = scene.output_every > 0 ? scene.output_every : std::int64_t{1} << 62;
+      const GridEvents events(every, scene.t_end, scene.dt);
+      halt = drive_grid(stepper, y, scene.dt, events, limit, c, summary, moved, row, monitor);
+    }
+  }
+  report.wall_seconds = std::chrono::duration<double>(Clock::now() - clock_start).count();
+  session.finish();
+
+  report.summary = summary;
+  report.session_steps = c.steps - start.steps;
+  if (adaptive) {
+    report.attempts = c.attempts - start.attempts;
+    report.rejected = c.rejected - start.rejected;
+  }
+  if (halt == Halt::monitor) report.stop_reason = session.reason();
+  if (halt == Halt::budget) report.stop_reason = StopReason::max_steps;
+  if ((halt == Halt::monitor || halt == Halt::budget) && checkpointer.enabled() && checkpoint(c, y))
+    report.checkpoint_written = options.checkpoint_path;
+  if (halt != Halt::none && options.csv && !(rows.has_row() && rows.last_t() == summary.t)) {
+    row(summary.t, moved ? &y : nullptr);  // the last good state, the file's last row
+    report.final_row = true;
+  }
+  report.has_rows = rows.has_row();
+  report.rows_not_finite = rows.not_finite();
+  report.first_not_finite_t = rows.first_not_finite_t();
+  report.write_failed = report.write_failed || rows.failed();
+  return moved;
 }
 
 // The scene's stepper S: Method<P>, or Projected<Method<P>> when the scene asks for projection.
 template <class S, class P>
 RunReport run_stepper(S& stepper, const P& problem, const Scene& scene, const RunOptions& options) {
+  using Internal = typename S::Internal;
   RunReport report;
   report.expected_steps = static_cast<std::int64_t>(std::ceil(scene.t_end / scene.dt - 1e-9));
-  RowWriter row(options.csv);
-  if (options.csv) {
+  RowWriter rows(options.csv);
+  if (options.csv && !options.resume) {
     const std::string h = header_for<P>() + "\n";
     if (std::fwrite(h.data(), 1, h.size(), options.csv) != h.size()) report.write_failed = true;
   }
-  auto observe = [&](double t, const State<double>& x) {
+  const State<double>& x0 = scene.initial;
+  auto row = [&](double t, const Internal* y) {
     if (!options.csv) return;
-    row.add(t);
+    const State<double> x = y ? stepper.to_state(*y) : x0;
+    rows.add(t);
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) row.add(x.R(r, c));
-    for (int i = 0; i < 3; ++i) row.add(x.Omega(i));
-    row.add(energy_at(problem, t, x));
-    row.add(so3::orthogonality_error(x.R));
-    for (const double v : invariants_at(problem, t, x)) row.add(v);
-    row.end_row();
+      for (int c = 0; c < 3; ++c) rows.add(x.R(r, c));
+    for (int i = 0; i < 3; ++i) rows.add(x.Omega(i));
+    rows.add(energy_at(problem, t, x));
+    rows.add(so3::orthogonality_error(x.R));
+    for (const double v : invariants_at(problem, t, x)) rows.add(v);
+    rows.end_row();
   };
-  Progress progress{options.progress, report.expected_steps, options.stop};
-
-  State<double> x = scene.initial;
-  report.energy_initial = energy_at(problem, 0.0, x);
-  const auto inv0 = invariants_at(problem, 0.0, x);
-  const auto start = Clock::now();
-  if (scene.options.rtol > 0) {
-    if constexpr (AdaptiveStepper<S>)
-      report.summary = run_adaptive(stepper, x, scene, observe, options);
-    else
-      throw std::logic_error("lgi: rtol given to a method without an embedded pair");
-  } else if (!scene.output_times.empty()) {
-    std::vector<double> times = scene.output_times;
-    if (times.back() < scene.t_end) times.push_back(scene.t_end);
-    report.summary = integrate_times(stepper, x, 0.0, scene.dt, std::span<const double>(times), observe, progress);
-  } else {
-    const std::int64_t every = scene.output_every > 0 ? scene.output_every : std::int64_t{1} << 62;
-    report.summary = integrate_every(stepper, x, 0.0, scene.dt, scene.t_end, every, observe, progress);
-  }
-  report.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  progress.finish();
-
+  report.energy_initial = energy_at(problem, 0.0, x0);
+  const auto inv0 = invariants_at(problem, 0.0, x0);
+  Internal y = stepper.to_internal(x0, 0.0);
+  const State<double> x = run_session(stepper, y, scene, options, row, rows, report) ? stepper.to_state(y) : x0;
   report.final_state = x;
   report.energy_final = energy_at(problem, report.summary.t, x);
   const auto inv1 = invariants_at(problem, report.summary.t, x);
   for (std::size_t i = 0; i < inv0.size(); ++i)
     report.invariants.push_back({std::string(P::invariant_names[i]), inv0[i], inv1[i]});
   if constexpr (requires { stepper.newton_iterations(); }) report.newton_iterations = stepper.newton_iterations();
-  report.write_failed = report.write_failed || row.failed();
   return report;
 }
 
@@ -126,78 +209,101 @@ RunReport dispatch(const P& problem, const Scene& scene, const RunOptions& optio
 // (integrators/euclidean_rk.hpp, apps/problems_paper.hpp) — with the standard columns (R by (6.3), Ω from
 // the angle rates, the total energy) and the problem's own. A step that takes sin θ below min_sin_theta
 // ends the run (status `stopped`, a warning with the time on stderr, the last admissible state kept).
+// The Euler-angle top's Runge–Kutta stepper as a Stepper of the runner's drivers: a step whose result leaves
+// the domain (sin θ < min_sin_theta) fails, the state untouched, and says so (left, t_outside); the library's
+// drive_euclidean makes the same test on the same trial step.
+template <const auto& Tableau>
+struct EulerAngleSteps {
+  using Internal = EulerAngleTop<double>::Vector;
+  const EuclideanRk<Tableau, EulerAngleTop<double>>& rk;
+  const EulerAngleTop<double>& problem;
+  bool left = false;
+  double t_outside = 0;
+  StepStatus step(Internal& y, double t, double h) {
+    Internal trial = y;
+    const StepStatus status = rk.step(trial, t, h);
+    if (status != StepStatus::ok) return status;
+    if (!rk.admissible(trial)) {
+      left = true;
+      t_outside = t + h;
+      return StepStatus::non_finite;  // reported as left_domain by run_euler_angles
+    }
+    y = trial;
+    return StepStatus::ok;
+  }
+  State<double> to_state(const Internal& y) const { return problem.to_state(y); }
+};
+
+// The seed paper's Euler-angle top (problems/euler_angle_top.hpp): its state (φ, θ, ψ, φ', θ', m_ψ) is not
+// on SO(3), so it runs on its own path — the scene's RKMK tableau as plain Runge–Kutta on the angles
+// (integrators/euclidean_rk.hpp, apps/problems_paper.hpp) — with the standard columns (R by (6.3), Ω from
+// the angle rates, the total energy) and the problem's own. A step that takes sin θ below min_sin_theta
+// ends the run (status `stopped`, a warning with the time on stderr, the last admissible state kept).
 template <const auto& Tableau>
 RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& scene, const RunOptions& options) {
   using Vector = EulerAngleTop<double>::Vector;
   RunReport report;
   report.expected_steps = static_cast<std::int64_t>(std::ceil(scene.t_end / scene.dt - 1e-9));
-  const EuclideanRk<Tableau, EulerAngleTop<double>> stepper(problem);
-  RowWriter row(options.csv);
-  if (options.csv) {
+  const EuclideanRk<Tableau, EulerAngleTop<double>> rk(problem);
+  EulerAngleSteps<Tableau> stepper{rk, problem};
+  RowWriter rows(options.csv);
+  if (options.csv && !options.resume) {
     const std::string h = header_for<EulerAngleTop<double>>() + "\n";
     if (std::fwrite(h.data(), 1, h.size(), options.csv) != h.size()) report.write_failed = true;
   }
-  auto observe = [&](double t, const Vector& y) {
+  const Vector y0 = problem.from_state(scene.initial);
+  auto row = [&](double t, const Vector* v) {
     if (!options.csv) return;
+    const Vector& y = v ? *v : y0;
     const State<double> x = problem.to_state(y);
-    row.add(t);
+    rows.add(t);
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) row.add(x.R(r, c));
-    for (int i = 0; i < 3; ++i) row.add(x.Omega(i));
-    row.add(problem.energy(y));
-    row.add(so3::orthogonality_error(x.R));
-    for (const double v : problem.invariants(y)) row.add(v);
-    row.end_row();
-  };
-  // t: the time of the rejected state (sin θ < min_sin_theta); t_kept and sin_theta: the last admissible one.
-  const auto warn = [&](double t, double sin_theta, double t_kept) {
-    std::fprintf(stderr,
-                 "lgi: warning: %s: at t = %s sin(theta) falls below min_sin_theta = %s: the Euler angles are near "
-                 "their coordinate singularity (symmetry axis near the laboratory e3); the run stops at t = %s, the "
-                 "last admissible state (sin(theta) = %.3g there; the same motion runs on SO(3) as problem.type "
-                 "heavy_top, or lower /problem/min_sin_theta)\n",
-                 scene.file.c_str(), format_number(t).c_str(), format_number(problem.min_sin_theta).c_str(),
-                 format_number(t_kept).c_str(), sin_theta);
+      for (int c = 0; c < 3; ++c) rows.add(x.R(r, c));
+    for (int i = 0; i < 3; ++i) rows.add(x.Omega(i));
+    rows.add(problem.energy(y));
+    rows.add(so3::orthogonality_error(x.R));
+    for (const double v2 : problem.invariants(y)) rows.add(v2);
+    rows.end_row();
   };
   constexpr std::array<int, 2> integrals{0, 1};  // momentum_k, momentum_psi (the integrals among the columns)
-  Vector y = problem.from_state(scene.initial);
-  report.energy_initial = problem.energy(y);
-  const auto inv0 = problem.invariants(y);
-  if (!problem.admissible(y)) {  // already at t = 0: no admissible state at all
+  report.energy_initial = problem.energy(y0);
+  const auto inv0 = problem.invariants(y0);
+  if (!problem.admissible(y0)) {  // already at t = 0: no admissible state at all
     report.summary.status = RunStatus::stopped;
+    report.stop_reason = StopReason::left_domain;
     std::fprintf(stderr,
                  "lgi: warning: %s: at t = 0 sin(theta) = %.3g < min_sin_theta = %s: the initial attitude is at the Euler "
                  "angles' coordinate singularity (symmetry axis near the laboratory e3); the run stops at t = 0 (the "
                  "same motion runs on SO(3) as problem.type heavy_top, or lower /problem/min_sin_theta)\n",
-                 scene.file.c_str(), std::sin(value_of(y[1])), format_number(problem.min_sin_theta).c_str());
+                 scene.file.c_str(), std::sin(value_of(y0[1])), format_number(problem.min_sin_theta).c_str());
     report.final_state = scene.initial;
     // The angle rates (hence the angle-form energy) are undefined at sin θ = 0: the energy of the same state
     // on SO(3) instead.
     report.energy_initial = report.energy_final = energy(problem.heavy_top(), scene.initial);
     return report;
   }
-  Progress progress{options.progress, report.expected_steps, options.stop};
-  const auto start = Clock::now();
-  EuclideanSummary summary;
-  if (!scene.output_times.empty()) {
-    std::vector<double> times = scene.output_times;
-    if (times.back() < scene.t_end) times.push_back(scene.t_end);
-    summary = integrate_times_euclidean(stepper, y, 0.0, scene.dt, std::span<const double>(times), observe, progress);
-  } else {
-    const std::int64_t every = scene.output_every > 0 ? scene.output_every : std::int64_t{1} << 62;
-    summary = integrate_every_euclidean(stepper, y, 0.0, scene.dt, scene.t_end, every, observe, progress);
+  Vector y = y0;
+  run_session(stepper, y, scene, options, row, rows, report);
+  if (stepper.left && report.summary.status == RunStatus::step_failed) {
+    // t_outside: the time of the rejected state (sin θ < min_sin_theta); the last admissible one is kept.
+    report.summary.status = RunStatus::stopped;
+    report.summary.step_status = StepStatus::ok;
+    report.stop_reason = StopReason::left_domain;
+    std::fprintf(stderr,
+                 "lgi: warning: %s: at t = %s sin(theta) falls below min_sin_theta = %s: the Euler angles are near "
+                 "their coordinate singularity (symmetry axis near the laboratory e3); the run stops at t = %s, the "
+                 "last admissible state (sin(theta) = %.3g there; the same motion runs on SO(3) as problem.type "
+                 "heavy_top, or lower /problem/min_sin_theta)\n",
+                 scene.file.c_str(), format_number(stepper.t_outside).c_str(),
+                 format_number(problem.min_sin_theta).c_str(), format_number(report.summary.t).c_str(),
+                 std::sin(y[1]));
   }
-  report.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  progress.finish();
-  if (summary.left_domain) warn(summary.t_outside, std::sin(y[1]), summary.t);
-  report.summary = summary;
   report.final_state = problem.to_state(y);
   report.energy_final = problem.energy(y);
   const auto inv1 = problem.invariants(y);
   for (const int i : integrals)
     report.invariants.push_back({std::string(EulerAngleTop<double>::invariant_names[static_cast<std::size_t>(i)]),
                                  inv0[static_cast<std::size_t>(i)], inv1[static_cast<std::size_t>(i)]});
-  report.write_failed = report.write_failed || row.failed();
   return report;
 }
 

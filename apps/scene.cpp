@@ -59,14 +59,15 @@ Scene parse_scene(const json& document, const std::string& file) {
   Scene scene;
   scene.file = file;
   const Node root(document, "", file);
-  root.allow_only({"description", "problem", "initial", "integrator", "t_end", "output"});
+  root.allow_only({"description", "problem", "initial", "integrator", "t_end", "output", "limits"});
   if (auto d = root.find("description")) (void)d->string();
 
   // problem
   const Node problem = root.at("problem");
   const std::string type = problem.at("type").string();
   const ProblemInfo* info = find_problem(type);
-  if (!info) problem.at("type").fail("unknown problem type \"" + type + "\" (known: " + known_problems() + ")");
+  if (!info)
+    problem.at("type").fail("unknown problem type " + quoted_input(type) + " (known: " + known_problems() + ")");
   problem.allow_only(info->keys, type);
   scene.problem = info->parse(problem);
 
@@ -90,7 +91,7 @@ Scene parse_scene(const json& document, const std::string& file) {
   const std::string method = integrator.at("method").string();
   scene.method = find_method(method);
   if (!scene.method)
-    integrator.at("method").fail("unknown method \"" + method + "\" (known: " + known_methods() + ")");
+    integrator.at("method").fail("unknown method " + quoted_input(method) + " (known: " + known_methods() + ")");
   if (!method_applies(method, type))
     integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type +
                                  " (methods that do: " + known_methods(type) + ")");
@@ -139,6 +140,9 @@ Scene parse_scene(const json& document, const std::string& file) {
   // t_end and the number of steps it implies
   const Node t_end = root.at("t_end");
   scene.t_end = t_end.non_negative();
+  // dt is the step (adaptive runs: the first step); one longer than the whole run is a slip of units or digits.
+  if (scene.t_end > 0 && scene.dt > scene.t_end)
+    integrator.at("dt").fail("must be <= t_end = " + format_number(scene.t_end) + ", got " + format_number(scene.dt));
   if (scene.t_end / scene.dt > max_scene_steps)
     integrator.at("dt").fail("t_end/dt = " + format_number(scene.t_end / scene.dt) + " steps, more than the " +
                              format_number(max_scene_steps) + " a scene may take");
@@ -163,6 +167,13 @@ Scene parse_scene(const json& document, const std::string& file) {
       }
     }
     if (every) scene.output_every = every->integer(1, std::int64_t{1} << 53);
+  }
+
+  // limits (budgets): see Scene
+  if (auto limits = root.find("limits")) {
+    limits->allow_only({"max_steps", "max_wall_seconds"});
+    if (auto n = limits->find("max_steps")) scene.max_steps = n->integer(1, std::int64_t{1} << 53);
+    if (auto s = limits->find("max_wall_seconds")) scene.max_wall_seconds = s->positive();
   }
   return scene;
 }

@@ -34,6 +34,11 @@ struct Scene {
   double t_end = 0;
   std::vector<double> output_times;  // when non-empty: write at these times (and 0, t_end)
   std::int64_t output_every = 0;     // when > 0: write every N steps (and 0, t_end)
+  // "limits": the run stops (RunStatus::stopped, `lgi` exit 6) after max_steps steps (adaptive runs: attempted
+  // steps) or max_wall_seconds of wall time, both counted from the start of this invocation (a resumed run
+  // starts counting again); 0: no limit.
+  std::int64_t max_steps = 0;
+  double max_wall_seconds = 0;
 };
 
 // The largest number of steps a scene may ask for (t_end / dt).

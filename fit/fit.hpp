@@ -26,6 +26,7 @@
 #include <ceres/solver.h>
 
 #include <chrono>
+#include <cstdio>
 #include <span>
 #include <string>
 #include <string_view>
@@ -95,6 +96,7 @@ struct FitResult {
   long integrations = 0;                    // integrations run (one per Jet pass)
   double seconds = 0;                       // wall time of the solve
   std::string report;                       // Ceres' BriefReport
+  std::string full_report;                  // Ceres' FullReport and the per-iteration table
 
   const FittedValue* find(std::string_view name) const {
     for (const FittedValue& v : values)
@@ -133,6 +135,18 @@ FitResult<P> collect(Model<Method, P, N>& model, ceres::Problem& problem, const 
   res.termination_type = ceres::TerminationTypeToString(summary.termination_type);
   res.message = summary.message;
   res.report = summary.BriefReport();
+  res.full_report = summary.FullReport() + "\n";
+  {
+    char line[160];
+    std::snprintf(line, sizeof line, "%4s %-13s %-13s %-13s %-13s %s\n", "iter", "cost", "cost_change", "|gradient|",
+                  "|step|", "tr_radius");
+    res.full_report += line;
+    for (const ceres::IterationSummary& it : summary.iterations) {
+      std::snprintf(line, sizeof line, "%4d %-13.6e %-13.6e %-13.6e %-13.6e %.2e%s\n", it.iteration, it.cost, it.cost_change,
+                    it.gradient_max_norm, it.step_norm, it.trust_region_radius, it.step_is_successful ? "" : "  (rejected)");
+      res.full_report += line;
+    }
+  }
   res.residuals = summary.num_residuals;
   res.integrations = model.runs();
   res.seconds = seconds;

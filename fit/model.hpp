@@ -311,6 +311,7 @@ class Model {
   // The periodicity residual (3 or 6 entries, see PeriodicSymmetry); false when the run failed.
   template <class T>
   bool periodic_residual(const Seeded<T>& s, T* r) const {
+    ++runs_;
     Method<rebind_problem_t<P, T>> stepper(s.problem, options_.stepper);
     State<T> x = s.x0;
     const T h = s.period / T(static_cast<double>(options_.steps));

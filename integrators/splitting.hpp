@@ -75,9 +75,9 @@ struct FlowTraits<Dmv<T>> {
 
 template <class T, int R>
 struct FlowTraits<PreprocessedDmv<T, R>> {
-  static constexpr std::string_view names[] = {"", "split_dmvp2", "split_dmv4", "split_dmv6", "split_dmv8",
+  static constexpr std::string_view names[6] = {"", "split_dmvp2", "split_dmv4", "split_dmv6", "split_dmv8",
                                                "split_dmv10"};
-  static constexpr std::string_view titles[] = {
+  static constexpr std::string_view titles[6] = {
       "", "", "Strang splitting: kicks + preprocessed DMV (free body order 4)",
       "Strang splitting: kicks + preprocessed DMV (free body order 6)",
       "Strang splitting: kicks + preprocessed DMV (free body order 8)",

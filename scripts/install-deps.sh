@@ -20,6 +20,7 @@ packages=(
   libgsl-dev            # benchmarks: GSL odeiv2 (rk8pd, rk4imp, msadams), a peer in work_precision
   libsundials-dev       # benchmarks: SUNDIALS 6.4 CVODE Adams and ARKODE ERK, peers in work_precision
   python3-matplotlib    # benchmarks: scripts/bench_report.py plots (Debian's /usr/bin/python3)
+  clang libclang-rt-14-dev  # scene fuzzer (fuzz/): clang-14 only Recommends the libFuzzer/ASan runtimes (rt-14-dev)
 )
 # shellcheck disable=SC2206
 packages+=(${LGI_DEPS_EXTRA:-})

@@ -1,6 +1,7 @@
 // The `lgi` command, run as a separate process: every malformed scene gets one message on stderr that
 // names the file and JSON path, exit status 1, and no output file; valid scenes write the CSV of the
-// contract (shared/DESIGN.md §3); a failing integration exits 2 and leaves no file.
+// contract (shared/DESIGN.md §3); a failing integration exits 2 and keeps the rows to its last good state
+// (more on failures, budgets, signals and checkpoints in test_checkpoint.cpp).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -364,7 +365,7 @@ TEST_F(Cli, SummarySaysAdaptiveAndProjected) {
   EXPECT_EQ(r.err.find("projected"), std::string::npos) << r.err;
 }
 
-TEST_F(Cli, FailedIntegrationExitsTwoAndLeavesNoFile) {
+TEST_F(Cli, FailedIntegrationExitsTwoAndKeepsTheLastGoodState) {
   // h|Ω| = 1.5 about the symmetry axis: the LGVI's implicit equation has no solution.
   const fs::path file =
       write("fail.json", std::string(SceneText{.initial = R"("initial": {"omega": [0, 0, 150]})",
@@ -372,7 +373,9 @@ TEST_F(Cli, FailedIntegrationExitsTwoAndLeavesNoFile) {
   const fs::path out = dir_ / "fail.csv";
   const Result r = lgi("run " + file.string() + " -o " + out.string());
   EXPECT_EQ(r.status, 2);
-  EXPECT_FALSE(fs::exists(out));
+  const Csv csv = parse_csv(slurp(out));  // the rows to the last good state: here t = 0 only
+  ASSERT_EQ(csv.rows.size(), 1u);
+  EXPECT_EQ(csv.text[0][csv.column("omega3")], "150");
   EXPECT_NE(r.err.find("the step from t = 0 failed: Newton iteration did not converge"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("/integrator/dt"), std::string::npos) << r.err;
 }
@@ -407,7 +410,7 @@ TEST_F(Cli, OutputFileHasTheUsualPermissions) {
   EXPECT_EQ(static_cast<unsigned>(fs::status(out).permissions() & fs::perms::all), 0666u & ~mask);
 }
 
-TEST_F(Cli, InterruptedRunLeavesNoFile) {
+TEST_F(Cli, InterruptedRunKeepsItsRows) {
   // 1e8 steps take seconds; SIGTERM after 0.3 s stops the run at its next check (every 1024 steps).
   const fs::path file =
       write("long.json", std::string(SceneText{.integrator = R"("integrator": {"method": "rkmk4", "dt": 1e-6})",
@@ -420,7 +423,10 @@ TEST_F(Cli, InterruptedRunLeavesNoFile) {
   const Result r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, "", slurp(err)};
   EXPECT_EQ(r.status, 128 + 15);
   EXPECT_NE(r.err.find("interrupted by SIGTERM at t = "), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(out));
+  const Csv csv = parse_csv(slurp(out));  // t = 0 and the state where the run stopped
+  ASSERT_EQ(csv.rows.size(), 2u);
+  EXPECT_GT(csv.rows[1][0], 0.0);
+  EXPECT_LT(csv.rows[1][0], 100.0);
   for (const auto& entry : fs::directory_iterator(dir_))
     EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
 }

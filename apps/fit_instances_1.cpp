@@ -1,4 +1,4 @@
-// tests/fit_instances_1.cpp — explicit instantiations of the fit templates the tests use, part 1
+// apps/fit_instances_1.cpp — explicit instantiations of the fit templates `lgi fit` and the tests use, part 1
 // (LGVI on both problems, RKMK4 on the free body; see fit_instances.hpp). Two parts: two TUs of similar cost,
 // built in parallel.
 #include "fit_instances.hpp"
@@ -10,7 +10,7 @@
   LGI_FIT_IN_PART_1_##part(LGI_FIT_PERIODIC_FIT(template, Method, P, N))
 
 namespace lgi::fit {
-LGI_FIT_TEST_MODELS(LGI_FIT_DEF_MODEL)
-LGI_FIT_TEST_OBSERVATION_FITS(LGI_FIT_DEF_OBSERVATION_FIT)
-LGI_FIT_TEST_PERIODIC_FITS(LGI_FIT_DEF_PERIODIC_FIT)
+LGI_FIT_MODELS(LGI_FIT_DEF_MODEL)
+LGI_FIT_OBSERVATION_FITS(LGI_FIT_DEF_OBSERVATION_FIT)
+LGI_FIT_PERIODIC_FITS(LGI_FIT_DEF_PERIODIC_FIT)
 }  // namespace lgi::fit

@@ -1,0 +1,363 @@
+// `lgi fit`, run as a separate process on data that `lgi run` wrote: the command recovers Ω0 (the fitting
+// issue's first acceptance case, through files), R0 with the moments, and a periodic orbit; a fit whose
+// Jacobian is rank deficient exits 5 with the result written and "usable": false; bad fit files get one
+// message naming the file and the JSON path (or CSV line), exit 1, and no output file.
+#include "test_problems.hpp"
+
+#include <lgi/problems/free_body.hpp>
+#include <lgi/problems/free_body_exact.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+struct Result {
+  int status;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string num(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+// Built with += : g++ 12 at -O3 warns (-Wrestrict, a known false positive, GCC PR 105329) on "[" + std::string.
+std::string vec(const lgi::Vec3<double>& v) {
+  std::string s("[");
+  s += num(v(0));
+  s += ", ";
+  s += num(v(1));
+  s += ", ";
+  s += num(v(2));
+  s += "]";
+  return s;
+}
+std::string mat(const lgi::Mat3<double>& m) {
+  std::string s("[");
+  for (int i = 0; i < 3; ++i) {
+    s += vec(m.row(i).transpose());
+    s += i < 2 ? ", " : "]";
+  }
+  return s;
+}
+
+class CliFit : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("lgi_cli_fit_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+  Result lgi(const std::string& args) {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd = std::string(LGI_EXE) + " " + args + " > " + out.string() + " 2> " + err.string();
+    const int raw = std::system(cmd.c_str());
+    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+  }
+  fs::path dir_;
+};
+
+// The skew heavy top of the fitting tests (non-diagonal inertia, tilted k and z0) as scene text.
+std::string skew_top_problem() {
+  const lgi::HeavyTop<double> p = lgi::test::skew_heavy_top();
+  return R"("problem": {"type": "heavy_top", "inertia": )" + mat(p.inertia) + R"(, "b": )" + num(p.b) +
+         R"(, "k": )" + vec(p.k) + R"(, "z0": )" + vec(p.z0) + "}";
+}
+
+// A scene whose output every `every` steps serves as observations.
+std::string truth_scene(const std::string& problem, const lgi::State<double>& x0, const std::string& method, double dt,
+                        double t_end, int every) {
+  return "{" + problem + R"(, "initial": {"R": )" + mat(x0.R) + R"(, "omega": )" + vec(x0.Omega) +
+         R"(}, "integrator": {"method": ")" + method + R"(", "dt": )" + num(dt) + R"(}, "t_end": )" + num(t_end) +
+         R"(, "output": {"every": )" + std::to_string(every) + "}}";
+}
+
+lgi::Vec3<double> vec_of(const json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
+
+// Acceptance case 1 of the fitting issue, through files: Ω0 of the skew heavy top from its attitudes every
+// 0.2 over T = 10 (51 rows of `lgi run` output, h = 0.01), starting 20 % off, with LGVI and RKMK4.
+TEST_F(CliFit, RecoversOmega0FromTheAttitudesLgiRunWrote) {
+  const lgi::State<double> truth = lgi::test::skew_initial_state();
+  for (const std::string method : {"lgvi", "rkmk4"}) {
+    SCOPED_TRACE(method);
+    write("truth.json", truth_scene(skew_top_problem(), truth, method, 0.01, 10, 20));
+    const Result run = lgi("run " + (dir_ / "truth.json").string() + " -q -o " + (dir_ / "obs.csv").string());
+    ASSERT_EQ(run.status, 0) << run.err;
+    lgi::State<double> guess = truth;
+    guess.Omega *= 1.2;
+    const std::string fit = truth_scene(skew_top_problem(), guess, method, 0.01, 10, 20);
+    write("fit.json", fit.substr(0, fit.size() - 1) +
+                          R"(, "fit": {"unknowns": ["initial.omega"],
+                                       "observations": {"csv": "obs.csv", "sigma_attitude": 1e-3}}})");
+    const Result r = lgi("fit " + (dir_ / "fit.json").string() + " -o " + (dir_ / "result.json").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(r.out.empty());
+    const json res = json::parse(slurp(dir_ / "result.json"));
+    const double error = (vec_of(res.at("initial").at("omega")) - truth.Omega).cwiseAbs().maxCoeff();
+    std::printf("%s: |Omega0 - truth|_max = %.3e, %d iterations, %s\n", method.c_str(), error,
+                res.at("iterations").get<int>(), res.at("termination").get<std::string>().c_str());
+    EXPECT_LE(error, 1e-8);
+    EXPECT_TRUE(res.at("usable").get<bool>());
+    EXPECT_EQ(res.at("observations").get<int>(), 51);
+    EXPECT_EQ(res.at("method").get<std::string>(), method);
+    // σ of Ω0 from σ = 1e-3 rad attitudes: positive, finite, small.
+    for (int k = 0; k < 3; ++k) {
+      const double s = res.at("sigma").at("initial").at("omega").at(k).get<double>();
+      EXPECT_GT(s, 0);
+      EXPECT_LT(s, 1e-2);
+    }
+    EXPECT_EQ(res.at("coordinates").size(), 3u);
+    EXPECT_NE(r.err.find("usable"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("CONVERGENCE"), std::string::npos) << r.err;
+  }
+}
+
+// R0, Ω0 and two principal moments (I3 held: the data fix only ratios) of a free body from inline
+// attitude and gyro observations and the same data as a CSV table.
+TEST_F(CliFit, RecoversAttitudeAndMomentsFromInlineObservations) {
+  const lgi::State<double> truth{lgi::so3::exp(lgi::Vec3<double>(0.4, 0.2, -0.3)), lgi::Vec3<double>(0.7, -0.4, 1.1)};
+  const std::string problem = R"("problem": {"type": "free_body", "inertia": [0.9, 1.3, 1.7]})";
+  write("truth.json", truth_scene(problem, truth, "lgvi", 0.01, 4, 25));
+  ASSERT_EQ(lgi("run " + (dir_ / "truth.json").string() + " -q -o " + (dir_ / "obs.csv").string()).status, 0);
+  // The CSV rows as inline observations: attitude and gyro at each time.
+  std::ifstream in(dir_ / "obs.csv");
+  std::string line;
+  std::getline(in, line);  // header: t, R11..R33, omega1..3, ...
+  std::string obs;
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) v.push_back(std::stod(cell));
+    const std::string R = "[[" + num(v[1]) + "," + num(v[2]) + "," + num(v[3]) + "],[" + num(v[4]) + "," + num(v[5]) +
+                          "," + num(v[6]) + "],[" + num(v[7]) + "," + num(v[8]) + "," + num(v[9]) + "]]";
+    obs += std::string(obs.empty() ? "" : ",\n") + R"({"t": )" + num(v[0]) + R"(, "R": )" + R + R"(, "sigma": 1e-3},)" +
+           R"({"t": )" + num(v[0]) + R"(, "omega": [)" + num(v[10]) + "," + num(v[11]) + "," + num(v[12]) +
+           R"(], "sigma": 1e-2})";
+  }
+  const lgi::State<double> guess{truth.R * lgi::so3::exp(lgi::Vec3<double>(0.05, -0.04, 0.03)), truth.Omega * 1.05};
+  const std::string base = truth_scene(R"("problem": {"type": "free_body", "inertia": [0.85, 1.4, 1.7]})", guess,
+                                       "lgvi", 0.01, 4, 25);
+  write("fit.json", base.substr(0, base.size() - 1) +
+                        R"(, "fit": {"unknowns": ["initial.R", "initial.omega", {"name": "problem.inertia", "fixed": [2]}],
+                                     "observations": [)" + obs + "]}}");
+  const Result r = lgi("fit " + (dir_ / "fit.json").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json res = json::parse(r.out);
+  const json& R = res.at("initial").at("R");
+  double eR = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) eR = std::max(eR, std::abs(R.at(i).at(j).get<double>() - truth.R(i, j)));
+  const double eW = (vec_of(res.at("initial").at("omega")) - truth.Omega).cwiseAbs().maxCoeff();
+  const lgi::Vec3<double> I = vec_of(res.at("problem").at("inertia"));
+  const double eI = (I - lgi::Vec3<double>(0.9, 1.3, 1.7)).cwiseAbs().maxCoeff();
+  std::printf("free body R0, Omega0, I1, I2: |R0 - truth| %.2e, |Omega0 - truth| %.2e, |I - truth| %.2e\n", eR, eW, eI);
+  EXPECT_LE(eR, 1e-8);
+  EXPECT_LE(eW, 1e-8);
+  EXPECT_LE(eI, 1e-8);
+  EXPECT_EQ(res.at("sigma").at("initial").at("R").size(), 3u);          // three angles
+  EXPECT_EQ(res.at("sigma").at("problem").at("inertia").at(2).get<double>(), 0.0);  // fixed
+  EXPECT_EQ(res.at("coordinates").size(), 8u);
+}
+
+// With all three moments free the scale is not fixed: the fit matches the data but has no covariance, so it
+// is not usable — exit 5, the result still written.
+TEST_F(CliFit, UnidentifiableScaleExitsFiveWithTheResultWritten) {
+  const lgi::State<double> truth{lgi::Mat3<double>::Identity(), lgi::Vec3<double>(0.7, -0.4, 1.1)};
+  write("truth.json", truth_scene(R"("problem": {"type": "free_body", "inertia": [0.9, 1.3, 1.7]})", truth, "lgvi",
+                                  0.01, 2, 20));
+  ASSERT_EQ(lgi("run " + (dir_ / "truth.json").string() + " -q -o " + (dir_ / "obs.csv").string()).status, 0);
+  const std::string base = truth_scene(R"("problem": {"type": "free_body", "inertia": [1, 1.3, 1.7]})", truth, "lgvi",
+                                       0.01, 2, 20);
+  write("fit.json", base.substr(0, base.size() - 1) +
+                        R"(, "fit": {"unknowns": ["problem.inertia"],
+                                     "observations": {"csv": "obs.csv", "sigma_attitude": 1e-3, "sigma_omega": 1e-3}}})");
+  const Result r = lgi("fit " + (dir_ / "fit.json").string() + " -q -o " + (dir_ / "result.json").string());
+  EXPECT_EQ(r.status, 5) << r.err;
+  EXPECT_NE(r.err.find("not usable"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("rank deficient"), std::string::npos) << r.err;
+  ASSERT_TRUE(fs::exists(dir_ / "result.json"));
+  const json res = json::parse(slurp(dir_ / "result.json"));
+  EXPECT_FALSE(res.at("usable").get<bool>());
+  EXPECT_FALSE(res.contains("covariance"));
+  // The ratios are still right.
+  const lgi::Vec3<double> I = vec_of(res.at("problem").at("inertia"));
+  EXPECT_NEAR(I(0) / I(2), 0.9 / 1.7, 1e-8);
+  EXPECT_NEAR(I(1) / I(2), 1.3 / 1.7, 1e-8);
+}
+
+// A periodic orbit of the Hairer–Vilmart free body: Ω0 (first component held) and the period, from a guess
+// 5 % off in Ω0 and the period; the period of the fitted Ω0 from the exact solution (docs/free_body_exact.md).
+TEST_F(CliFit, FindsAPeriodicOrbitOfTheFreeBody) {
+  const lgi::FreeBody<double> body = lgi::FreeBody<double>::hairer_vilmart();
+  const lgi::State<double> x0 = lgi::test::hairer_vilmart_state(body);
+  const double T_exact = static_cast<double>(lgi::FreeBodyExact<double>(body.inertia).solve(x0).period());
+  const lgi::Vec3<double> guess(x0.Omega(0), 1.05 * x0.Omega(1), 0.95 * x0.Omega(2));
+  const std::string text = R"({"problem": {"type": "free_body", "inertia": )" + vec(body.inertia.diagonal()) +
+                           R"(}, "initial": {"omega": )" + vec(guess) +
+                           R"(}, "integrator": {"method": "rkmk4", "dt": 0.01},
+    "fit": {"unknowns": [{"name": "initial.omega", "fixed": [0]}, "period"],
+            "periodic": {"period": )" + num(1.05 * T_exact) + R"(, "steps": 1000}}})";
+  write("periodic.json", text);
+  const Result r = lgi("fit " + (dir_ / "periodic.json").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json res = json::parse(r.out);
+  lgi::State<double> fitted = x0;
+  fitted.Omega = vec_of(res.at("initial").at("omega"));
+  const double T_fit = res.at("period").get<double>();
+  const double T_ref = static_cast<double>(lgi::FreeBodyExact<double>(body.inertia).solve(fitted).period());
+  std::printf("periodic free body (rkmk4, 1000 steps): residual %.2e, T - T_exact(fitted Omega0) = %.2e\n",
+              res.at("max_residual").get<double>(), T_fit - T_ref);
+  EXPECT_LE(res.at("max_residual").get<double>(), 1e-10);
+  EXPECT_LE(std::abs(T_fit - T_ref), 1e-8);  // RKMK4 at 1000 steps: 1.0e-10 in test_fit_periodic
+  EXPECT_EQ(res.at("mode").get<std::string>(), "periodic");
+  EXPECT_FALSE(res.contains("sigma"));
+}
+
+// The example fit files, as the docs tell users to run them: `lgi run truth.json -o obs.csv`, then
+// `lgi fit fit.json`; and the periodic orbit of the hanging heavy top.
+TEST_F(CliFit, ExamplesRunAsDocumented) {
+  for (const char* f : {"truth.json", "fit.json", "periodic.json"})
+    fs::copy_file(fs::path(LGI_EXAMPLES_DIR) / "fit" / f, dir_ / f);
+  ASSERT_EQ(lgi("run " + (dir_ / "truth.json").string() + " -q -o " + (dir_ / "obs.csv").string()).status, 0);
+  Result r = lgi("fit " + (dir_ / "fit.json").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  json res = json::parse(r.out);
+  const double eW = (vec_of(res.at("initial").at("omega")) - lgi::Vec3<double>(0.7, -0.4, 1.1)).cwiseAbs().maxCoeff();
+  const lgi::Vec3<double> I = vec_of(res.at("problem").at("inertia"));
+  const double eI = (I - lgi::Vec3<double>(0.9, 1.3, 1.7)).cwiseAbs().maxCoeff();
+  std::printf("examples/fit/fit.json: |Omega0 - truth| %.2e, |I - truth| %.2e, %d iterations\n", eW, eI,
+              res.at("iterations").get<int>());
+  EXPECT_LE(eW, 1e-8);
+  EXPECT_LE(eI, 1e-8);
+  r = lgi("fit " + (dir_ / "periodic.json").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  res = json::parse(r.out);
+  std::printf("examples/fit/periodic.json: residual %.2e, T = %.10f, phase %.3e\n", res.at("max_residual").get<double>(),
+              res.at("period").get<double>(), res.at("phase").get<double>());
+  EXPECT_LE(res.at("max_residual").get<double>(), 1e-10);
+  EXPECT_EQ(res.at("steps").get<int>(), 1000);
+}
+
+struct BadFit {
+  const char* name;
+  std::string fit;       // the "fit" section's members, or a whole replacement when it starts with '{'
+  std::string where;     // the JSON path or CSV line the message must name
+  std::string message;   // a phrase it must contain
+};
+
+TEST_F(CliFit, BadFitFilesGetOneMessageNamingThePath) {
+  write("obs.csv", "t,R11,R12,R13,R21,R22,R23,R31,R32,R33\n0,1,0,0,0,1,0,0,0,1\n0.5,1,0,0,0,1,0\n");
+  write("late.csv", "t,omega1,omega2,omega3\n0,1,2,3\n7,1,2,3\n");
+  write("nan.csv", "t,omega1,omega2,omega3\n0,1,2,3\n0.5,1,nan,3\n");
+  const std::string R_id = R"([[1,0,0],[0,1,0],[0,0,1]])";
+  const std::string scene = R"("problem": {"type": "heavy_top", "inertia": [2, 2, 1], "b": 1},
+      "initial": {"omega": [0.1, 0.2, 3]}, "integrator": {"method": "lgvi", "dt": 0.01}, "t_end": 1)";
+  const std::vector<BadFit> cases = {
+      {"no fit section", "{" + scene + "}", "/", "fit"},
+      {"unknown unknown", R"("unknowns": ["initial.omega", "initial.spin"], "observations": [{"t": 0.5, "R": )" + R_id +
+                              R"(, "sigma": 1e-3}])",
+       "/fit/unknowns/1", "initial.spin"},
+      {"observation after t_end", R"("unknowns": ["initial.omega"], "observations": [{"t": 1.5, "R": )" + R_id +
+                                      R"(, "sigma": 1e-3}])",
+       "/fit/observations/0/t", "outside [0, 1]"},
+      {"times not increasing", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "R": )" + R_id +
+                                   R"(, "sigma": 1e-3}, {"t": 0.2, "R": )" + R_id + R"(, "sigma": 1e-3}])",
+       "/fit/observations/1/t", "increasing"},
+      {"zero sigma", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": 0}])",
+       "/fit/observations/0/sigma", "> 0"},
+      {"negative sigma", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": -1}])",
+       "/fit/observations/0/sigma", "> 0"},
+      {"not a rotation", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "R": [[1,0,0],[0,1,0],[0,0,2]], "sigma": 1e-3}])",
+       "/fit/observations/0/R", "not a rotation"},
+      {"mismatched size", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2], "sigma": 1e-3}])",
+       "/fit/observations/0/omega", "array of 3"},
+      {"two kinds in one", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2, 3], "R": )" +
+                               R_id + R"(, "sigma": 1e-3}])",
+       "/fit/observations/0", "exactly one"},
+      {"quaternion not unit", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "q": [1, 0, 0, 0.1], "sigma": 1e-3}])",
+       "/fit/observations/0/q", "unit quaternion"},
+      {"unknown loss", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": 1, "loss": "l1"}])",
+       "/fit/observations/0/loss", "l1"},
+      {"fixed out of range", R"("unknowns": [{"name": "initial.omega", "fixed": [3]}], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": 1}])",
+       "/fit/unknowns/0/fixed/0", "from 0 to 2"},
+      {"nothing free", R"("unknowns": [{"name": "initial.omega", "fixed": [0, 1, 2]}], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": 1}])",
+       "/fit/unknowns", "nothing to fit"},
+      {"no observations", R"("unknowns": ["initial.omega"], "observations": [])", "/fit/observations", "no observations"},
+      {"unknown key", R"("unknowns": ["initial.omega"], "observation": [])", "/fit", "observation"},
+      {"csv row size", R"("unknowns": ["initial.omega"], "observations": {"csv": "obs.csv", "sigma_attitude": 1e-3})",
+       "obs.csv:3", "row has 7 values"},
+      {"csv time outside", R"("unknowns": ["initial.omega"], "observations": {"csv": "late.csv", "sigma_omega": 1e-3})",
+       "late.csv:3: column t", "outside [0, 1]"},
+      {"csv not a number", R"("unknowns": ["initial.omega"], "observations": {"csv": "nan.csv", "sigma_omega": 1e-3})",
+       "nan.csv:3", "column omega2"},
+      {"csv missing", R"("unknowns": ["initial.omega"], "observations": {"csv": "none.csv", "sigma_omega": 1e-3})",
+       "none.csv", "cannot read"},
+      {"csv without sigma", R"("unknowns": ["initial.omega"], "observations": {"csv": "obs.csv"})", "/fit/observations",
+       "sigma_attitude"},
+      {"continuation order", R"("unknowns": ["initial.omega"], "continuation": [0.5, 0.2], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": 1}])",
+       "/fit/continuation", "increase"},
+      {"periodic with observations", R"("unknowns": ["initial.omega", "period"], "periodic": {"period": 2}, "observations": [])",
+       "/fit/observations", "no observations"},
+      {"period outside periodic", R"("unknowns": ["initial.omega", "period"], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": 1}])",
+       "/fit/unknowns/1", "period"},
+  };
+  for (const BadFit& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string text = c.fit.starts_with("{") ? c.fit : "{" + scene + R"(, "fit": {)" + c.fit + "}}";
+    const fs::path file = write("bad.json", text);
+    const fs::path out = dir_ / "result.json";
+    const Result r = lgi("fit " + file.string() + " -o " + out.string());
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("lgi: error: " + file.string() + ": ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(c.where), std::string::npos) << "expected '" << c.where << "' in: " << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << "expected '" << c.message << "' in: " << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_TRUE(r.out.empty());
+  }
+}
+
+TEST_F(CliFit, MethodsAndProblemsOutsideTheCompiledSetAreNamed) {
+  const std::string obs = R"("fit": {"unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": 1}]})";
+  write("method.json", R"({"problem": {"type": "free_body", "inertia": [1, 2, 2.5]}, "initial": {"omega": [1, 2, 3]},
+                          "integrator": {"method": "split_dmv", "dt": 0.01}, "t_end": 1, )" + obs + "}");
+  Result r = lgi("fit " + (dir_ / "method.json").string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("/integrator/method: lgi fit offers the methods lgvi, rkmk4"), std::string::npos) << r.err;
+  write("problem.json", R"({"problem": {"type": "lagrange_top", "inertia": [2, 2, 1], "b": 1}, "initial": {"omega": [1, 2, 3]},
+                           "integrator": {"method": "lgvi", "dt": 0.01}, "t_end": 1, )" + obs + "}");
+  r = lgi("fit " + (dir_ / "problem.json").string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("/problem/type: lgi fit offers the problems free_body, heavy_top"), std::string::npos) << r.err;
+}
+
+}  // namespace

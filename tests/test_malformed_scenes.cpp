@@ -1,0 +1,529 @@
+// Malformed scene files through the real `lgi run`, each against its golden message (issue 7, input safety).
+//
+// Every case is a valid scene with one thing broken (or a file whose bytes are the point: BOM, invalid
+// UTF-8, NUL, a file over the loader's size limit, nesting 100 000 deep — those are generated here into a
+// temporary directory). For each, the command must
+//   - exit with status 1 (bad input),
+//   - print exactly one line on stderr, "lgi: error: <file>: <JSON path>: <message>" (syntax errors:
+//     "lgi: error: <file>:<line>:<column>: invalid JSON: …"), equal to the golden line below with the
+//     temporary path substituted for {file},
+//   - print nothing on stdout, and create neither the -o file nor a temporary file beside it.
+// The valid scenes the cases start from are run too (they must exit 0), so each golden message is
+// caused by the one edit of its case and nothing else.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// ---- the valid scenes every case edits -----------------------------------------------------------
+
+const std::string heavy_top = R"({
+  "description": "a valid heavy top: each case below breaks one thing",
+  "problem": {"type": "heavy_top", "inertia": [2, 2, 1], "b": 1, "k": [0, 0, 1], "z0": [0, 0, 1]},
+  "initial": {"R": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], "omega": [0.1, 0.2, 5]},
+  "integrator": {"method": "lgvi", "dt": 0.01, "tolerance": 1e-12, "max_iterations": 30},
+  "t_end": 0.1,
+  "output": {"every": 2}
+}
+)";
+
+const std::string adaptive = R"({
+  "problem": {"type": "free_body", "inertia": [[2, 0, 0], [0, 3, 0], [0, 0, 4]]},
+  "initial": {"omega": [1, 0.1, 0.2]},
+  "integrator": {"method": "rkmk_dp5", "dt": 0.01, "rtol": 1e-8, "atol": 1e-10, "projection": true},
+  "t_end": 0.1,
+  "output": {"times": [0.05, 0.1]}
+}
+)";
+
+const std::string potential = R"({
+  "problem": {"type": "potential", "inertia": [2, 2, 1],
+              "fields": [{"b": 1, "k": [0, 0, 1], "z0": [0, 0, 1]}],
+              "gradient": {"c": 3, "axis": [1, 0, 0], "tensor": [2, 2, 1]}},
+  "initial": {"omega": [0.1, 0.2, 5]},
+  "integrator": {"method": "rkmk4", "dt": 0.01},
+  "t_end": 0.1
+}
+)";
+
+const std::string satellite = R"({
+  "problem": {"type": "satellite", "inertia": [1, 2, 2.5], "n": 1, "radial": [1, 0, 0], "normal": [0, 0, 1]},
+  "initial": {"omega": [0, 0, 1]},
+  "integrator": {"method": "rkmk4", "dt": 0.01},
+  "t_end": 0.1
+}
+)";
+
+const std::string lagrange = R"({
+  "problem": {"type": "lagrange_top", "inertia": [2, 2, 1], "b": 1, "k": [0, 0.6, 0.8]},
+  "initial": {"omega": [0.1, 0.2, 5]},
+  "integrator": {"method": "lagrange_split", "dt": 0.01},
+  "t_end": 0.1
+}
+)";
+
+const std::string kovalevskaya = R"({
+  "problem": {"type": "kovalevskaya_top", "inertia": [2, 2, 1], "b": 1, "z0": [1, 0, 0]},
+  "initial": {"omega": [0.1, 0.2, 1]},
+  "integrator": {"method": "rkmk4", "dt": 0.01},
+  "t_end": 0.1
+}
+)";
+
+const std::string euler_angles = R"({
+  "problem": {"type": "lagrange_top_euler_angles", "I2": 2, "I3": 1, "b": 1, "k2": 0.6, "k3": 0.8},
+  "initial": {"euler_angles": [0.5, 1.2, 0], "euler_rates": [-0.2, 0.3, 4]},
+  "integrator": {"method": "rkmk4", "dt": 0.01},
+  "t_end": 0.1
+}
+)";
+
+// `base` with its one occurrence of `from` replaced by `to` (an ADD_FAILURE if `from` is not there once).
+std::string edit(const std::string& base, const std::string& from, const std::string& to) {
+  const auto at = base.find(from);
+  if (at == std::string::npos || base.find(from, at + 1) != std::string::npos) {
+    ADD_FAILURE() << "edit: \"" << from << "\" is not in the base scene exactly once";
+    return base;
+  }
+  return base.substr(0, at) + to + base.substr(at + from.size());
+}
+
+struct Case {
+  std::string name;
+  std::string text;    // the file's bytes
+  std::string golden;  // stderr, {file} for the file's path
+};
+
+std::vector<Case> cases() {
+  const std::string& h = heavy_top;
+  return {
+      // ---- files that are not JSON, or not one JSON value ----
+      {"empty_file", "", "lgi: error: {file}: the file is empty"},
+      {"whitespace_only", " \n\t\r\n  \n", "lgi: error: {file}: the file is empty"},
+      {"truncated_mid_object", h.substr(0, h.find("\"initial\"")),
+       "lgi: error: {file}:4:3: invalid JSON: syntax error while parsing object key - unexpected end "
+       "of input; expected string literal"},
+      {"truncated_mid_string", h.substr(0, h.find("heavy_top") + 5),
+       "lgi: error: {file}:3:29: invalid JSON in /problem/type: syntax error while parsing value - "
+       "invalid string: missing closing quote; last read: '\"heavy'"},
+      {"truncated_mid_number", h.substr(0, h.find("0.01") + 3),
+       "lgi: error: {file}:5:45: invalid JSON in /integrator: syntax error while parsing object - "
+       "unexpected end of input; expected '}'"},
+      {"trailing_garbage", h + "x\n",
+       "lgi: error: {file}:9:1: invalid JSON: syntax error while parsing value - invalid literal; "
+       "last read: '2}<U+000A>}<U+000A>x'; expected end of input"},
+      {"two_documents", h + "{}\n",
+       "lgi: error: {file}:9:1: invalid JSON: syntax error while parsing value - unexpected '{'; expected "
+       "end of input"},
+      {"trailing_comma", edit(h, "\"every\": 2}", "\"every\": 2,}"),
+       "lgi: error: {file}:7:25: invalid JSON in /output: syntax error while parsing object key - "
+       "unexpected '}'; expected string literal (JSON has no trailing commas)"},
+      {"line_comment", edit(h, "  \"t_end\": 0.1,", "  // one tenth of a second\n  \"t_end\": 0.1,"),
+       "lgi: error: {file}:6:3: invalid JSON: syntax error while parsing object key - invalid literal; "
+       "last read: '30},<U+000A>  /'; expected string literal (JSON has no comments)"},
+      {"block_comment", edit(h, "\"t_end\": 0.1", "\"t_end\": /* s */ 0.1"),
+       "lgi: error: {file}:6:12: invalid JSON in /t_end: syntax error while parsing value - invalid "
+       "literal; last read: '\"t_end\": /' (JSON has no comments)"},
+      {"hash_comment", "# a scene\n" + h,
+       "lgi: error: {file}:1:1: invalid JSON: syntax error while parsing value - invalid literal; "
+       "last read: '#' (JSON has no comments)"},
+      {"utf16_bom", "\xFF\xFE{",
+       "lgi: error: {file}: the file is UTF-16 or UTF-32 (it starts with a byte order mark): save "
+       "it as UTF-8"},
+      {"invalid_utf8_in_string", edit(h, "a valid heavy top", "a valid \xC3\x28 top"),
+       "lgi: error: {file}:2:28: invalid JSON in /description: syntax error while parsing value - "
+       "invalid string: ill-formed UTF-8 byte; last read: '\"a valid \\xC3('"},
+      {"nul_byte", edit(h, "\"t_end\": 0.1", std::string("\"t_end\": 0.1\0", 13)),
+       "lgi: error: {file}:6:15: invalid JSON: a NUL byte (JSON text has none)"},
+      {"nul_then_garbage", h + std::string(1, '\0') + "garbage",
+       "lgi: error: {file}:9:1: invalid JSON: a NUL byte (JSON text has none)"},
+      {"control_character_in_string", edit(h, "a valid heavy top", "a valid\theavy top"),
+       "lgi: error: {file}:2:26: invalid JSON in /description: syntax error while parsing value - "
+       "invalid string: control character U+0009 (HT) must be escaped to \\u0009 or \\t; last read: "
+       "'\"a valid<U+0009>'"},
+      {"single_quotes", edit(h, "\"type\": \"heavy_top\"", "'type': 'heavy_top'"),
+       "lgi: error: {file}:3:15: invalid JSON in /problem: syntax error while parsing object key - "
+       "invalid literal; last read: '\"problem\": {''; expected string literal (JSON strings and keys "
+       "take double quotes)"},
+      {"unquoted_key", edit(h, "\"t_end\"", "t_end"),
+       "lgi: error: {file}:6:4: invalid JSON: syntax error while parsing object key - invalid literal; "
+       "last read: '30},<U+000A>  t_'; expected string literal (JSON keys are strings in double quotes)"},
+      // ---- non-finite numbers ----
+      {"overflow_1e400", edit(h, "\"b\": 1", "\"b\": 1e400"),
+       "lgi: error: {file}: /problem/b: number 1e400 is out of the range of a double (at 3:67)"},
+      {"overflow_negative", edit(h, "[0.1, 0.2, 5]", "[0.1, -1e999, 5]"),
+       "lgi: error: {file}: /initial/omega/1: number -1e999 is out of the range of a double (at 4:75)"},
+      {"underflow_1e-400", edit(h, "\"dt\": 0.01", "\"dt\": 1e-400"),
+       "lgi: error: {file}: /integrator/dt: number 1e-400 is too small for a double (it would read "
+       "as 0)"},
+      {"NaN", edit(h, "\"dt\": 0.01", "\"dt\": NaN"),
+       "lgi: error: {file}:5:42: invalid JSON in /integrator/dt: syntax error while parsing value "
+       "- invalid literal; last read: '\"dt\": N' (NaN and Infinity are not JSON numbers, and a scene's "
+       "numbers must be finite)"},
+      {"nan_lowercase", edit(h, "[0.1, 0.2, 5]", "[0.1, nan, 5]"),
+       "lgi: error: {file}:4:71: invalid JSON in /initial/omega/1: syntax error while parsing value "
+       "- invalid literal; last read: '0.1, na' (NaN and Infinity are not JSON numbers, and a scene's "
+       "numbers must be finite)"},
+      {"Infinity", edit(h, "\"t_end\": 0.1", "\"t_end\": Infinity"),
+       "lgi: error: {file}:6:12: invalid JSON in /t_end: syntax error while parsing value - invalid "
+       "literal; last read: '\"t_end\": I' (NaN and Infinity are not JSON numbers, and a scene's numbers "
+       "must be finite)"},
+      {"minus_inf", edit(h, "\"b\": 1", "\"b\": -inf"),
+       "lgi: error: {file}:3:64: invalid JSON in /problem/b: syntax error while parsing value - invalid "
+       "number; expected digit after '-'; last read: '-i' (NaN and Infinity are not JSON numbers, "
+       "and a scene's numbers must be finite)"},
+      {"NaN_as_string", edit(h, "\"b\": 1", "\"b\": \"NaN\""),
+       "lgi: error: {file}: /problem/b: expected a number, got a string (\"NaN\")"},
+      {"hex_number", edit(h, "\"b\": 1", "\"b\": 0x1p3"),
+       "lgi: error: {file}:3:64: invalid JSON in /problem: syntax error while parsing object - invalid "
+       "literal; last read: '0x'; expected '}'"},
+      // ---- structure ----
+      {"duplicate_top_key", edit(h, "\"t_end\": 0.1,", "\"t_end\": 0.1, \"t_end\": 0.2,"),
+       "lgi: error: {file}: /: duplicate key \"t_end\""},
+      {"duplicate_nested_key", edit(h, "\"b\": 1,", "\"b\": 1, \"b\": 2,"),
+       "lgi: error: {file}: /problem: duplicate key \"b\""},
+      {"root_array", "[" + h + "]", "lgi: error: {file}: /: expected an object, got an array of 1"},
+      {"root_number", "42\n", "lgi: error: {file}: /: expected an object, got the number 42"},
+      // ---- unknown keys at each level ----
+      {"unknown_top_key", edit(h, "\"t_end\"", "\"t_final\": 1, \"t_end\""),
+       "lgi: error: {file}: /t_final: unknown key (allowed: description, problem, initial, integrator, "
+       "t_end, output, limits)"},
+      {"unknown_problem_key", edit(h, "\"b\": 1,", "\"b\": 1, \"mass\": 3,"),
+       "lgi: error: {file}: /problem/mass: unknown key for heavy_top (allowed: type, inertia, b, k, "
+       "z0)"},
+      {"unknown_initial_key", edit(h, "\"omega\"", "\"Omega\": [0, 0, 1], \"omega\""),
+       "lgi: error: {file}: /initial/Omega: unknown key (allowed: R, omega, euler_angles, euler_rates)"},
+      {"unknown_integrator_key", edit(h, "\"dt\": 0.01", "\"dt\": 0.01, \"order\": 4"),
+       "lgi: error: {file}: /integrator/order: unknown key for method lgvi (allowed: method, dt, tolerance, "
+       "max_iterations)"},
+      {"unknown_output_key", edit(h, "{\"every\": 2}", "{\"every\": 2, \"format\": \"csv\"}"),
+       "lgi: error: {file}: /output/format: unknown key (allowed: times, every)"},
+      {"unknown_field_key", edit(potential, "\"b\": 1, \"k\"", "\"b\": 1, \"strength\": 2, \"k\""),
+       "lgi: error: {file}: /problem/fields/0/strength: unknown key for a uniform field (allowed: "
+       "b, k, z0)"},
+      {"unknown_gradient_key", edit(potential, "\"c\": 3", "\"c\": 3, \"q\": 1"),
+       "lgi: error: {file}: /problem/gradient/q: unknown key for a field gradient (allowed: c, axis, "
+       "tensor)"},
+      // messages stay one line of bounded length whatever the input's strings hold
+      {"unknown_key_with_newline", edit(h, "\"t_end\"", "\"t\\nend\": 1, \"t_end\""),
+       "lgi: error: {file}: /t\\nend: unknown key (allowed: description, problem, initial, integrator, "
+       "t_end, output, limits)"},
+      {"unknown_key_very_long", edit(h, "\"t_end\"", std::string("\"").append(100000, 'k') + "\": 1, \"t_end\""),
+       "lgi: error: {file}: /kkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkk...: unknown key (allowed: description, "
+       "problem, initial, integrator, t_end, output, limits)"},
+      {"method_with_escape_sequence", edit(h, "\"lgvi\"", "\"\\u001b[31mlgvi\""),
+       "lgi: error: {file}: /integrator/method: unknown method \"\\u001b[31mlgvi\" (known: lgvi, rkmk4, "
+       "lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rk4_quat, rk4_quat_renorm, rk4_mat, "
+       "rk4_mat_renorm, dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, split_axes, "
+       "split_dmv, split_dmv4, split_dmv6, split_dmv8, split_dmv10, split_exact, cf4, cg3, lgvi_yoshida4, "
+       "lgvi_suzuki4, lgvi_yoshida6, lgvi_kahan_li6, lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10, "
+       "split_dmv_yoshida4, split_dmv_suzuki4, split_dmv_kahan_li6, split_dmv_kahan_li8, "
+       "split_dmv_sofroniou_spaletta10, "
+       "lagrange_split)"},
+      // ---- missing required keys ----
+      {"missing_problem",
+       edit(h, h.substr(h.find("  \"problem\""), h.find("  \"initial\"") - h.find("  \"problem\"")), ""),
+       "lgi: error: {file}: /: missing key \"problem\""},
+      {"missing_type", edit(h, "\"type\": \"heavy_top\", ", ""), "lgi: error: {file}: /problem: missing key \"type\""},
+      {"missing_inertia", edit(h, "\"inertia\": [2, 2, 1], ", ""),
+       "lgi: error: {file}: /problem: missing key \"inertia\""},
+      {"missing_initial",
+       edit(h, h.substr(h.find("  \"initial\""), h.find("  \"integrator\"") - h.find("  \"initial\"")), ""),
+       "lgi: error: {file}: /: missing key \"initial\""},
+      {"missing_omega", edit(h, ", \"omega\": [0.1, 0.2, 5]", ""),
+       "lgi: error: {file}: /initial: missing key \"omega\""},
+      {"missing_method", edit(h, "\"method\": \"lgvi\", ", ""),
+       "lgi: error: {file}: /integrator: missing key \"method\""},
+      {"missing_dt", edit(h, "\"dt\": 0.01, ", ""), "lgi: error: {file}: /integrator: missing key \"dt\""},
+      {"missing_t_end", edit(h, "  \"t_end\": 0.1,\n", ""), "lgi: error: {file}: /: missing key \"t_end\""},
+      {"missing_euler_rates", edit(euler_angles, ", \"euler_rates\": [-0.2, 0.3, 4]", ""),
+       "lgi: error: {file}: /initial: missing key \"euler_rates\""},
+      // ---- wrong types ----
+      {"problem_is_string",
+       edit(h,
+            h.substr(h.find("{\"type\": \"heavy_top\""),
+                     h.find("},\n  \"initial\"") + 1 - h.find("{\"type\": \"heavy_top\"")),
+            "\"heavy_top\""),
+       "lgi: error: {file}: /problem: expected an object, got a string (\"heavy_top\")"},
+      {"type_is_number", edit(h, "\"type\": \"heavy_top\"", "\"type\": 3"),
+       "lgi: error: {file}: /problem/type: expected a string, got the number 3"},
+      {"dt_is_string", edit(h, "\"dt\": 0.01", "\"dt\": \"0.01\""),
+       "lgi: error: {file}: /integrator/dt: expected a number, got a string (\"0.01\")"},
+      {"t_end_is_bool", edit(h, "\"t_end\": 0.1", "\"t_end\": true"),
+       "lgi: error: {file}: /t_end: expected a number, got true"},
+      {"omega_is_object", edit(h, "[0.1, 0.2, 5]", "{\"x\": 0.1}"),
+       "lgi: error: {file}: /initial/omega: expected an array of 3 numbers, got an object"},
+      {"omega_entry_null", edit(h, "[0.1, 0.2, 5]", "[0.1, null, 5]"),
+       "lgi: error: {file}: /initial/omega/1: expected a number, got null"},
+      {"omega_two_entries", edit(h, "[0.1, 0.2, 5]", "[0.1, 0.2]"),
+       "lgi: error: {file}: /initial/omega: expected an array of 3 numbers, got an array of 2"},
+      {"R_entry_string", edit(h, "[0, 1, 0]", "[0, \"1\", 0]"),
+       "lgi: error: {file}: /initial/R/1/1: expected a number, got a string (\"1\")"},
+      {"inertia_is_number", edit(h, "\"inertia\": [2, 2, 1]", "\"inertia\": 2"),
+       "lgi: error: {file}: /problem/inertia: expected an array, got the number 2"},
+      {"times_is_number", edit(adaptive, "[0.05, 0.1]", "0.05"),
+       "lgi: error: {file}: /output/times: expected an array, got the number 0.05"},
+      {"projection_is_string", edit(adaptive, "\"projection\": true", "\"projection\": \"yes\""),
+       "lgi: error: {file}: /integrator/projection: expected true or false, got a string (\"yes\")"},
+      {"description_is_number", edit(h, "\"a valid heavy top: each case below breaks one thing\"", "7"),
+       "lgi: error: {file}: /description: expected a string, got the number 7"},
+      // ---- out-of-range values ----
+      {"b_negative", edit(h, "\"b\": 1", "\"b\": -1"), "lgi: error: {file}: /problem/b: must be >= 0, got -1"},
+      {"max_iterations_zero", edit(h, "\"max_iterations\": 30", "\"max_iterations\": 0"),
+       "lgi: error: {file}: /integrator/max_iterations: expected an integer from 1 to 1000, got 0"},
+      {"max_iterations_fraction", edit(h, "\"max_iterations\": 30", "\"max_iterations\": 2.5"),
+       "lgi: error: {file}: /integrator/max_iterations: expected an integer from 1 to 1000, got 2.5"},
+      {"tolerance_too_loose", edit(h, "\"tolerance\": 1e-12", "\"tolerance\": 0.5"),
+       "lgi: error: {file}: /integrator/tolerance: must be < 0.01, got 0.5"},
+      {"rtol_below_roundoff", edit(adaptive, "\"rtol\": 1e-8", "\"rtol\": 1e-17"),
+       "lgi: error: {file}: /integrator/rtol: must be in [2.220446049250313e-15 (10 machine epsilons), "
+       "1), got 1e-17"},
+      {"every_zero", edit(h, "{\"every\": 2}", "{\"every\": 0}"),
+       "lgi: error: {file}: /output/every: expected an integer from 1 to 9007199254740992, got 0"},
+      {"every_huge", edit(h, "{\"every\": 2}", "{\"every\": 1e19}"),
+       "lgi: error: {file}: /output/every: expected an integer from 1 to 9007199254740992, got 1e+19"},
+      {"min_sin_theta_one", edit(euler_angles, "\"k3\": 0.8", "\"k3\": 0.8, \"min_sin_theta\": 1"),
+       "lgi: error: {file}: /problem/min_sin_theta: must be in [0, 1), got 1"},
+      {"too_many_fields",
+       edit(potential, "[{\"b\": 1, \"k\": [0, 0, 1], \"z0\": [0, 0, 1]}]",
+            [] {
+              std::string f = "[";
+              for (int i = 0; i < 9; ++i)
+                f.append(i ? ", " : "").append("{\"b\": 1, \"k\": [0, 0, 1], \"z0\": [0, 0, 1]}");
+              return f.append("]");
+            }()),
+       "lgi: error: {file}: /problem/fields: at most 4 uniform fields, got 9"},
+      // ---- physically impossible data, units ----
+      {"inertia_triangle_inequality", edit(h, "\"inertia\": [2, 2, 1]", "\"inertia\": [1, 1, 2.5]"),
+       "lgi: error: {file}: /problem/inertia: principal moments 1, 1, 2.5 violate the triangle inequality "
+       "I3 <= I1 + I2 (no rigid body has them)"},
+      {"inertia_not_positive_definite",
+       edit(h, "\"inertia\": [2, 2, 1]", "\"inertia\": [[1, 2, 0], [2, 1, 0], [0, 0, 1]]"),
+       "lgi: error: {file}: /problem/inertia: inertia tensor is not positive definite (principal moments "
+       "-1, 1, 3)"},
+      {"inertia_not_symmetric", edit(h, "\"inertia\": [2, 2, 1]", "\"inertia\": [[2, 0.5, 0], [0, 2, 0], [0, 0, 1]]"),
+       "lgi: error: {file}: /problem/inertia/0/1: inertia tensor is not symmetric: I12 = 0.5 but I21 "
+       "= 0"},
+      {"inertia_zero", edit(h, "\"inertia\": [2, 2, 1]", "\"inertia\": [0, 0, 0]"),
+       "lgi: error: {file}: /problem/inertia: inertia tensor is zero"},
+      {"inertia_units_too_small", edit(h, "\"inertia\": [2, 2, 1]", "\"inertia\": [2e-200, 2e-200, 1e-200]"),
+       "lgi: error: {file}: /problem/inertia: inertia tensor's scale (principal moments 1e-200 .. "
+       "2e-200) is outside [1e-150, 1e150]: its inverse is not representable; change the units"},
+      {"R_not_orthogonal", edit(h, "[0, 1, 0]", "[0, 1.001, 0]"),
+       "lgi: error: {file}: /initial/R: must be a rotation matrix (to 1e-9): |R^T R - I| = 0.0020009999999996975, "
+       "det R = 1.001"},
+      {"R_reflection", edit(h, "[0, 0, 1]], \"omega\"", "[0, 0, -1]], \"omega\""),
+       "lgi: error: {file}: /initial/R: must be a rotation matrix (to 1e-9): |R^T R - I| = 0, det "
+       "R = -1"},
+      {"R_all_zero", edit(h, "[[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "[[0, 0, 0], [0, 0, 0], [0, 0, 0]]"),
+       "lgi: error: {file}: /initial/R: must be a rotation matrix (to 1e-9): |R^T R - I| = 1.7320508075688772, "
+       "det R = 0"},
+      {"k_zero_vector", edit(h, "\"k\": [0, 0, 1]", "\"k\": [0, 0, 0]"),
+       "lgi: error: {file}: /problem/k: must be a unit vector (to 1e-9), its length is 0"},
+      {"z0_not_unit", edit(h, "\"z0\": [0, 0, 1]", "\"z0\": [0, 0, 9.81]"),
+       "lgi: error: {file}: /problem/z0: must be a unit vector (to 1e-9), its length is 9.81"},
+      {"radial_not_perpendicular", edit(satellite, "\"radial\": [1, 0, 0]", "\"radial\": [0, 0.6, 0.8]"),
+       "lgi: error: {file}: /problem/radial: the radial direction must be perpendicular to the orbit "
+       "normal (to 1e-9), radial . normal = 0.8"},
+      {"lagrange_not_symmetric", edit(lagrange, "[2, 2, 1]", "[2, 3, 1]"),
+       "lgi: error: {file}: /problem/inertia: a Lagrange top has I1 = I2 (symmetry axis e3), got I1 "
+       "= 2, I2 = 3"},
+      {"kovalevskaya_ratio", edit(kovalevskaya, "[2, 2, 1]", "[2, 2, 1.5]"),
+       "lgi: error: {file}: /problem/inertia: a Kovalevskaya top has I1 = I2 = 2 I3, got 2, 2, 1.5"},
+      {"kovalevskaya_z0_off_plane", edit(kovalevskaya, "\"z0\": [1, 0, 0]", "\"z0\": [0.6, 0, 0.8]"),
+       "lgi: error: {file}: /problem/z0: the centre of mass of a Kovalevskaya top lies in the equatorial "
+       "plane: z0[2] must be 0 (to 1e-9), got 0.8"},
+      {"euler_top_triangle", edit(euler_angles, "\"I3\": 1", "\"I3\": 5"),
+       "lgi: error: {file}: /problem/I3: must not exceed 2*I2 = 4 (triangle inequality of the moments)"},
+      {"gradient_tensor_not_symmetric",
+       edit(potential, "\"tensor\": [2, 2, 1]", "\"tensor\": [[1, 2, 0], [0, 1, 0], [0, 0, 1]]"),
+       "lgi: error: {file}: /problem/gradient/tensor: the tensor must be symmetric: Q12 = 2 but Q21 "
+       "= 0"},
+      {"euler_and_R_both", edit(euler_angles, "\"euler_angles\"", "\"omega\": [0, 0, 1], \"euler_angles\""),
+       "lgi: error: {file}: /initial: give either R and omega, or euler_angles and euler_rates, not "
+       "both"},
+      // ---- method and problem ----
+      {"unknown_method", edit(h, "\"lgvi\"", "\"rk45\""),
+       "lgi: error: {file}: /integrator/method: unknown method \"rk45\" (known: lgvi, rkmk4, lie_euler, "
+       "rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rk4_quat, rk4_quat_renorm, rk4_mat, rk4_mat_renorm, "
+       "dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, split_axes, split_dmv, split_dmv4, "
+       "split_dmv6, split_dmv8, split_dmv10, split_exact, cf4, cg3, lgvi_yoshida4, lgvi_suzuki4, lgvi_yoshida6, "
+       "lgvi_kahan_li6, lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10, split_dmv_yoshida4, "
+       "split_dmv_suzuki4, split_dmv_kahan_li6, split_dmv_kahan_li8, split_dmv_sofroniou_spaletta10, "
+       "lagrange_split)"},
+      {"unknown_problem", edit(h, "\"heavy_top\"", "\"spinning_plate\""),
+       "lgi: error: {file}: /problem/type: unknown problem type \"spinning_plate\" (known: free_body, "
+       "heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, lagrange_top_euler_angles)"},
+      {"method_not_for_problem", edit(h, "\"lgvi\"", "\"lagrange_split\""),
+       "lgi: error: {file}: /integrator/method: method \"lagrange_split\" does not apply to problem "
+       "heavy_top (methods that do: lgvi, rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, "
+       "rkmk_dp8, rk4_quat, rk4_quat_renorm, rk4_mat, rk4_mat_renorm, dop853_quat, dop853_quat_renorm, "
+       "dop853_mat, dop853_mat_renorm, split_axes, split_dmv, split_dmv4, split_dmv6, split_dmv8, "
+       "split_dmv10, split_exact, cf4, cg3, lgvi_yoshida4, lgvi_suzuki4, lgvi_yoshida6, lgvi_kahan_li6, "
+       "lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10, split_dmv_yoshida4, split_dmv_suzuki4, "
+       "split_dmv_kahan_li6, split_dmv_kahan_li8, split_dmv_sofroniou_spaletta10)"},
+      {"splitting_on_euler_angles", edit(euler_angles, "\"rkmk4\"", "\"lgvi\""),
+       "lgi: error: {file}: /integrator/method: method \"lgvi\" does not apply to problem lagrange_top_euler_angles "
+       "(methods that do: rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8)"},
+      {"tolerance_on_explicit_method", edit(h, "\"lgvi\"", "\"rkmk4\""),
+       "lgi: error: {file}: /integrator/max_iterations: unknown key for method rkmk4 (allowed: method, "
+       "dt, projection)"},
+      {"rtol_on_fixed_step_method", edit(adaptive, "\"rkmk_dp5\"", "\"rkmk4\""),
+       "lgi: error: {file}: /integrator/rtol: method rkmk4 has no embedded error estimate: adaptive "
+       "steps (rtol, atol) need one of rkmk_dp5, rkmk_dp8, dop853_quat, dop853_quat_renorm, dop853_mat, "
+       "dop853_mat_renorm"},
+      {"projection_on_symplectic", edit(h, "\"max_iterations\": 30", "\"max_iterations\": 30, \"projection\": true"),
+       "lgi: error: {file}: /integrator/projection: method lgvi is symplectic (its energy error stays "
+       "bounded): projection is for non-symplectic methods"},
+      {"rtol_without_atol", edit(adaptive, ", \"atol\": 1e-10", ""),
+       "lgi: error: {file}: /integrator: an adaptive run needs both \"rtol\" and \"atol\" (fixed steps: "
+       "neither)"},
+      // ---- time grid and output spec ----
+      {"dt_zero", edit(h, "\"dt\": 0.01", "\"dt\": 0"), "lgi: error: {file}: /integrator/dt: must be > 0, got 0"},
+      {"dt_negative", edit(h, "\"dt\": 0.01", "\"dt\": -0.01"),
+       "lgi: error: {file}: /integrator/dt: must be > 0, got -0.01"},
+      {"dt_larger_than_t_end", edit(h, "\"dt\": 0.01", "\"dt\": 0.5"),
+       "lgi: error: {file}: /integrator/dt: must be <= t_end = 0.1, got 0.5"},
+      {"t_end_negative", edit(h, "\"t_end\": 0.1", "\"t_end\": -1"),
+       "lgi: error: {file}: /t_end: must be >= 0, got -1"},
+      {"too_many_steps", edit(h, "\"t_end\": 0.1", "\"t_end\": 1e12"),
+       "lgi: error: {file}: /integrator/dt: t_end/dt = 1e+14 steps, more than the 1e+13 a scene may "
+       "take"},
+      {"output_not_object", edit(h, "{\"every\": 2}", "[2]"),
+       "lgi: error: {file}: /output: expected an object, got an array of 1"},
+      {"output_times_and_every", edit(h, "{\"every\": 2}", "{\"every\": 2, \"times\": [0.05]}"),
+       "lgi: error: {file}: /output: give either \"times\" or \"every\", not both"},
+      {"output_time_after_end", edit(adaptive, "[0.05, 0.1]", "[0.05, 0.2]"),
+       "lgi: error: {file}: /output/times/1: output time 0.2 is outside [0, t_end = 0.1]"},
+      {"output_times_decreasing", edit(adaptive, "[0.05, 0.1]", "[0.1, 0.05]"),
+       "lgi: error: {file}: /output/times/1: output times must increase: 0.05 follows 0.1"},
+      {"output_time_nonfinite", edit(adaptive, "[0.05, 0.1]", "[0.05, 1e999]"),
+       "lgi: error: {file}: /output/times/1: number 1e999 is out of the range of a double (at 6:34)"},
+  };
+}
+
+// ---- running the command ------------------------------------------------------------------------
+
+struct Result {
+  int status;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class MalformedScenes : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("lgi_malformed_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const std::string& bytes) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << bytes;
+    return p;
+  }
+
+  // `lgi run FILE -o OUT`, stdout and stderr captured.
+  Result run(const fs::path& scene, const fs::path& output) {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd = std::string(LGI_EXE) + " run " + scene.string() + " -o " + output.string() + " > " +
+                            out.string() + " 2> " + err.string();
+    const int raw = std::system(cmd.c_str());
+    Result r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+  }
+
+  // The contract for bad input: status 1, the golden line on stderr and nothing else, no output.
+  void expect_rejected(const std::string& name, const std::string& bytes, const std::string& golden) {
+    SCOPED_TRACE(name);
+    const fs::path scene = write(name + ".json", bytes);
+    const fs::path output = dir_ / (name + ".csv");
+    const Result r = run(scene, output);
+    std::string expected = golden;
+    for (auto at = expected.find("{file}"); at != std::string::npos; at = expected.find("{file}"))
+      expected.replace(at, 6, scene.string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(r.err, expected + "\n");
+    EXPECT_EQ(r.out, "");
+    EXPECT_FALSE(fs::exists(output));
+    for (const auto& entry : fs::directory_iterator(dir_))  // no temporary output left either
+      EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
+    fs::remove(scene);
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(MalformedScenes, TheValidScenesTheCasesEditRun) {
+  for (const std::string* scene :
+       {&heavy_top, &adaptive, &potential, &satellite, &lagrange, &kovalevskaya, &euler_angles}) {
+    const fs::path file = write("valid.json", *scene);
+    const Result r = run(file, dir_ / "valid.csv");
+    EXPECT_EQ(r.status, 0) << *scene << r.err;
+    EXPECT_TRUE(fs::exists(dir_ / "valid.csv")) << *scene;
+    fs::remove(dir_ / "valid.csv");
+  }
+}
+
+// A UTF-8 byte order mark is skipped (RFC 8259 §8.1 lets a parser ignore it): the scene runs.
+TEST_F(MalformedScenes, Utf8ByteOrderMarkIsSkipped) {
+  const fs::path file = write("bom.json", "\xEF\xBB\xBF" + heavy_top);
+  const Result r = run(file, dir_ / "bom.csv");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "bom.csv"));
+}
+
+// Generated in the test: one byte over the loader's 64 MiB limit (a valid scene padded with spaces, so
+// that only the size is wrong), and nesting 100 000 deep (the loader stops at 64 levels, without
+// recursion: no stack overflow).
+TEST_F(MalformedScenes, HugeFileAndDeepNesting) {
+  constexpr std::size_t limit = std::size_t{64} << 20;
+  std::string huge = heavy_top;
+  huge.resize(limit + 1, ' ');
+  expect_rejected("huge_file", huge,
+                  "lgi: error: {file}: the file is larger than the limit of 67108864 bytes for an input file");
+  expect_rejected("exactly_at_the_limit_but_invalid", std::string(limit - 1, ' ') + "x",
+                  "lgi: error: {file}:1:67108864: invalid JSON: syntax error while parsing value - invalid literal; "
+                  "last read: '...                                    x'");
+
+  std::string pointer;
+  for (int i = 0; i < 64; ++i) pointer += "/0";  // the 64 arrays open when the 65th starts
+  expect_rejected("deep_arrays", std::string(100000, '[') + std::string(100000, ']'),
+                  "lgi: error: {file}: " + pointer + ": nesting deeper than 64 levels");
+  std::string objects;
+  for (int i = 0; i < 100000; ++i) objects += "{\"a\": ";
+  std::string keys = "/output";
+  for (int i = 0; i < 63; ++i) keys += "/a";  // the root and 63 objects open
+  expect_rejected("deep_objects", edit(heavy_top, "{\"every\": 2}", objects + "1" + std::string(100000, '}')),
+                  "lgi: error: {file}: " + keys + ": nesting deeper than 64 levels");
+}
+
+TEST_F(MalformedScenes, EachGivesItsGoldenMessageAndStatusAndNoOutput) {
+  const std::vector<Case> all = cases();
+  EXPECT_GE(all.size(), 40u);
+  for (const Case& c : all) expect_rejected(c.name, c.text, c.golden);
+}
+
+}  // namespace
