@@ -8,7 +8,7 @@
 #   scripts/sanitize.sh [-b BUILD_DIR] [-j JOBS]     (defaults: build-sanitize, 2)
 #
 # Compile level -O1, the sanitizers' usual one: these tests are about input, not speed. Without lgi::fit
-# (`lgi fit` is optional; its Ceres instantiations alone take over 30 min of CPU under ASan). Not in CI
+# (`lgi fit` is optional; its Ceres instantiations compiled for over 30 min here under ASan). Not in CI
 # (its compile cost: see the README).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
