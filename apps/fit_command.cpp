@@ -359,8 +359,6 @@ std::string where_of(const std::string& field, const FitSpec& spec) {
   return path;
 }
 
-json vector_json(const std::vector<double>& v) { return json(v); }
-
 // Nests a scene name ("initial.omega") into `out` ({"initial": {"omega": value}}).
 void put(json& out, const std::string& name, json value) {
   const std::size_t dot = name.find('.');
@@ -390,13 +388,13 @@ json result_json(const FitSpec& spec, const fit::FitResult<P>& r, const std::str
   if (!spec.periodic) out["observations"] = spec.observations.size();
   json sigma = json::object();
   for (const fit::FittedValue& v : r.values) {
-    json value = vector_json(v.value);
+    json value = json(v.value);
     if (v.name == "initial.R") value = json::array({json::array({v.value[0], v.value[1], v.value[2]}),
                                                     json::array({v.value[3], v.value[4], v.value[5]}),
                                                     json::array({v.value[6], v.value[7], v.value[8]})});
     if (v.value.size() == 1) value = v.value[0];
     put(out, v.name, std::move(value));
-    put(sigma, v.name, v.sigma.size() == 1 ? json(v.sigma[0]) : vector_json(v.sigma));
+    put(sigma, v.name, v.sigma.size() == 1 ? json(v.sigma[0]) : json(v.sigma));
   }
   if (r.covariance_ok) {
     out["sigma"] = sigma;

@@ -6,6 +6,7 @@
 //
 //   build/benchmarks/bench_fit --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include "fit_instances.hpp"
+#include "test_problems.hpp"  // the skew heavy top and its initial state, as in the tests
 
 #include <lgi/core/driver.hpp>
 #include <lgi/core/so3.hpp>
@@ -18,21 +19,11 @@ namespace {
 
 using namespace lgi;
 
-HeavyTop<double> skew_heavy_top() {  // the data of tests/test_problems.hpp, skew_heavy_top()
-  HeavyTop<double> p;
-  const Mat3<double> Q = so3::exp(Vec3<double>(0.3, -0.5, 0.7));
-  p.inertia = Q * Vec3<double>(0.9, 1.3, 1.7).asDiagonal() * Q.transpose();
-  p.inertia = 0.5 * (p.inertia + p.inertia.transpose()).eval();
-  p.b = 1.3;
-  p.k = Vec3<double>(0.1, 0.6, 0.8).normalized();
-  p.z0 = Vec3<double>(0.3, -0.4, 0.87).normalized();
-  return p;
-}
-const State<double> truth{so3::exp(Vec3<double>(0.4, 0.2, -0.3)), Vec3<double>(0.7, -0.4, 1.1)};
+const State<double> truth = test::skew_initial_state();
 
 template <template <class> class Method>
 void BM_FitOmega0(benchmark::State& state) {
-  const HeavyTop<double> top = skew_heavy_top();
+  const HeavyTop<double> top = test::skew_heavy_top();
   const double h = 0.01, T = 10;
   std::vector<double> times;
   for (int i = 1; i <= 50; ++i) times.push_back(T * i / 50);

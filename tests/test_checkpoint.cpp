@@ -13,6 +13,8 @@
 #include <lgi/integrators/rkmk.hpp>
 #include <lgi/problems/heavy_top.hpp>
 
+#include "lgi_process.hpp"
+
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -35,35 +37,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using lgi::test::slurp;
 
 struct Result {
   int status;  // exit status, or 128 + signal
   std::string err;
 };
 
-class Checkpoints : public ::testing::Test {
+class Checkpoints : public lgi::test::CommandTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("lgi_ck_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-
-  fs::path write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
+  Checkpoints() : CommandTest("ck") {}
 
   // Starts `lgi ARGS` with stdout to /dev/null (or `out`) and stderr to dir_/stderr.txt.
   pid_t spawn(const std::vector<std::string>& args, const std::string& out = "/dev/null") {
@@ -109,7 +92,6 @@ class Checkpoints : public ::testing::Test {
       EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
   }
 
-  fs::path dir_;
 };
 
 // A heavy-top scene (the one of test_cli) with the given integrator, duration, output and extra top-level keys.

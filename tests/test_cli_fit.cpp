@@ -2,6 +2,7 @@
 // issue's first acceptance case, through files), R0 with the moments, and a periodic orbit; a fit whose
 // Jacobian is rank deficient exits 5 with the result written and "usable": false; bad fit files get one
 // message naming the file and the JSON path (or CSV line), exit 1, and no output file.
+#include "lgi_process.hpp"
 #include "test_problems.hpp"
 
 #include <lgi/problems/free_body.hpp>
@@ -25,17 +26,8 @@ using nlohmann::json;
 
 namespace {
 
-struct Result {
-  int status;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using Result = lgi::test::CommandResult;
+using lgi::test::slurp;
 
 std::string num(double x) {
   char buf[40];
@@ -62,28 +54,9 @@ std::string mat(const lgi::Mat3<double>& m) {
   return s;
 }
 
-class CliFit : public ::testing::Test {
+class CliFit : public lgi::test::CommandTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("lgi_cli_fit_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-  Result lgi(const std::string& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = std::string(LGI_EXE) + " " + args + " > " + out.string() + " 2> " + err.string();
-    const int raw = std::system(cmd.c_str());
-    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
-  }
-  fs::path dir_;
+  CliFit() : CommandTest("cli_fit") {}
 };
 
 // The skew heavy top of the fitting tests (non-diagonal inertia, tilted k and z0) as scene text.

@@ -10,6 +10,8 @@
 //   - print nothing on stdout, and create neither the -o file nor a temporary file beside it.
 // The valid scenes the cases start from are run too (they must exit 0), so each golden message is
 // caused by the one edit of its case and nothing else.
+#include "lgi_process.hpp"
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -415,45 +417,14 @@ std::vector<Case> cases() {
 
 // ---- running the command ------------------------------------------------------------------------
 
-struct Result {
-  int status;
-  std::string out, err;
-};
+using Result = lgi::test::CommandResult;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class MalformedScenes : public ::testing::Test {
+class MalformedScenes : public lgi::test::CommandTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("lgi_malformed_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path write(const std::string& name, const std::string& bytes) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << bytes;
-    return p;
-  }
+  MalformedScenes() : CommandTest("malformed") {}
 
   // `lgi run FILE -o OUT`, stdout and stderr captured.
-  Result run(const fs::path& scene, const fs::path& output) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = std::string(LGI_EXE) + " run " + scene.string() + " -o " + output.string() + " > " +
-                            out.string() + " 2> " + err.string();
-    const int raw = std::system(cmd.c_str());
-    Result r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
-    fs::remove(out);
-    fs::remove(err);
-    return r;
-  }
+  Result run(const fs::path& scene, const fs::path& output) { return lgi("run " + scene.string() + " -o " + output.string()); }
 
   // The contract for bad input: status 1, the golden line on stderr and nothing else, no output.
   void expect_rejected(const std::string& name, const std::string& bytes, const std::string& golden) {
@@ -473,7 +444,6 @@ class MalformedScenes : public ::testing::Test {
     fs::remove(scene);
   }
 
-  fs::path dir_;
 };
 
 TEST_F(MalformedScenes, TheValidScenesTheCasesEditRun) {
