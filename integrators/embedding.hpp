@@ -99,22 +99,41 @@ Eigen::Matrix<T, 4, 1> quaternion_of(const Mat3<T>& R) {
   return q;
 }
 
-// The orthogonal polar factor of X (‖XᵀX − I‖ < 1), Newton–Schulz iteration (see the header).
+// X ← the orthogonal polar factor of X, Newton–Schulz iteration (see the header). Returns false, X
+// unchanged, when the iteration does not reach a rotation: max |XᵀX − I| ≥ 1 (or NaN) at some iterate,
+// where it need not converge, or still above 1e-12 after its 8 updates. No rotation is produced then, and
+// the caller must not pretend otherwise (the steps report StepStatus::not_converged).
+template <class T>
+bool polar_factor(Mat3<T>& X) {
+  const auto deviation = [](const Mat3<T>& Y, Mat3<T>& E) {
+    E = Y.transpose() * Y;
+    E.diagonal().array() -= T(1);  // YᵀY − I
+    return static_cast<double>(value_of(E.cwiseAbs().maxCoeff()));
+  };
+  Mat3<T> Y = X, E;
+  int extra = is_dual_v<T> ? 1 : 0;
+  for (int k = 0; k < 8 + extra; ++k) {
+    const double size = deviation(Y, E);
+    if (!(size < 1)) return false;
+    if (size <= 4 * std::numeric_limits<double>::epsilon()) {
+      if (extra == 0) {
+        X = Y;
+        return true;
+      }
+      --extra;
+    }
+    Y -= T(0.5) * (Y * E);  // ½ Y (3I − YᵀY) = Y − ½ Y (YᵀY − I)
+  }
+  if (!(deviation(Y, E) < 1e-12)) return false;
+  X = Y;
+  return true;
+}
+
+// The orthogonal polar factor of X, which must satisfy max |XᵀX − I| < 1 (else X is returned unchanged).
 template <class T>
 Mat3<T> nearest_rotation(const Mat3<T>& X0) {
   Mat3<T> X = X0;
-  int extra = is_dual_v<T> ? 1 : 0;
-  for (int k = 0; k < 8 + extra; ++k) {
-    Mat3<T> E = X.transpose() * X;
-    E.diagonal().array() -= T(1);  // XᵀX − I
-    const double size = static_cast<double>(value_of(E.cwiseAbs().maxCoeff()));
-    if (!(size < 1)) return X;  // not convergent (caller checks finiteness / orthogonality)
-    if (size <= 4 * std::numeric_limits<double>::epsilon()) {
-      if (extra == 0) break;
-      --extra;
-    }
-    X -= T(0.5) * (X * E);  // ½ X (3I − XᵀX) = X − ½ X (XᵀX − I)
-  }
+  polar_factor(X);
   return X;
 }
 
@@ -274,7 +293,9 @@ class EmbeddedRk {
       sum += (p * theta) * d.k[i];
     }
     Vec y = d.y0 + d.h * sum;
-    if constexpr (Renormalise) renormalise(y);
+    // Within an accepted step the interpolant stays near SO(3); were it not, y is returned unprojected and
+    // the caller's finiteness/orthogonality figures show it.
+    if constexpr (Renormalise) static_cast<void>(renormalise(y));
     return unpack(y);
   }
 
@@ -304,16 +325,22 @@ class EmbeddedRk {
     y.Omega = v.template tail<3>();
     return y;
   }
-  static void renormalise(Vec& v) {
+  // false: the matrix is too far from SO(3) for its polar factor (the step failed; see polar_factor).
+  static bool renormalise(Vec& v) {
     if constexpr (C == embedding::Chart::quaternion) {
-      v.template head<4>() /= v.template head<4>().norm();
+      v.template head<4>() /= v.template head<4>().norm();  // |q| = 0 gives NaN: finish() reports it
+      return true;
     } else {
-      const Mat3<Scalar> R = Eigen::Map<const Mat3<Scalar>>(v.data());
-      Eigen::Map<Mat3<Scalar>>(v.data()) = embedding::nearest_rotation(R);
+      Mat3<Scalar> R = Eigen::Map<const Mat3<Scalar>>(v.data());
+      if (!embedding::polar_factor(R)) return false;
+      Eigen::Map<Mat3<Scalar>>(v.data()) = R;
+      return true;
     }
   }
   static StepStatus finish(Vec y1, Internal& y) {
-    if constexpr (Renormalise) renormalise(y1);
+    if constexpr (Renormalise) {
+      if (!renormalise(y1)) return all_finite(y1) ? StepStatus::not_converged : StepStatus::non_finite;
+    }
     if (!all_finite(y1)) return StepStatus::non_finite;
     y = unpack(y1);
     return StepStatus::ok;

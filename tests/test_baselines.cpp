@@ -143,6 +143,45 @@ TEST(EmbeddingMaps, NearestRotationIsThePolarFactor) {
 }
 
 // DOP853 on the embedding, adaptive: meets the tolerance over T = 2 (≤ 10× tol) like the RKMK pair.
+// Past the polar factor's reach (max |XᵀX − I| ≥ 1) there is no rotation to return: polar_factor says so
+// and leaves X alone, and a renormalised step fails instead of reporting ok with a matrix off the group.
+TEST(EmbeddingMaps, PolarFactorRefusesMatricesFarFromSO3) {
+  const Mat3<double> R = so3::exp(Vec3<double>(0.4, -1.2, 2.0));
+  for (const double scale : {1.5, 3.0}) {  // XᵀX − I = (scale² − 1) I
+    Mat3<double> X = scale * R;
+    EXPECT_FALSE(embedding::polar_factor(X)) << scale;
+    EXPECT_EQ(X, scale * R) << scale;
+  }
+  Mat3<double> X = 1.2 * R;  // inside: XᵀX − I = 0.44 I
+  EXPECT_TRUE(embedding::polar_factor(X));
+  EXPECT_LT((X - R).cwiseAbs().maxCoeff(), 1e-15);
+}
+
+// rk4_mat_renorm on the free body at h|Ω| from 0.5 to 4: every step either fails (not_converged /
+// non_finite, state untouched) or leaves R orthogonal to round-off. Before the fix, h|Ω| = π returned
+// ok with |RᵀR − I| = 5.5e74 (issue 7's stability map).
+TEST(EmbeddingMaps, RenormalisedMatrixStepNeverReturnsAnOffGroupMatrix) {
+  const FreeBody<double> body = gni_body();
+  const State<double> x0 = gni_state();
+  int failed = 0;
+  for (const double hw : {0.5, 1.0, 2.0, 3.14159, 4.0}) {
+    const double h = hw / x0.Omega.norm();
+    Rk4MatRenorm<FreeBody<double>> stepper(body);
+    auto y = stepper.to_internal(x0, 0.0);
+    for (int n = 0; n < 200; ++n) {
+      const auto before = y;
+      const StepStatus s = stepper.step(y, n * h, h);
+      if (s != StepStatus::ok) {
+        EXPECT_EQ(y.R, before.R) << hw;
+        ++failed;
+        break;
+      }
+      ASSERT_LT(so3::orthogonality_error(y.R), 1e-12) << "h|Omega| = " << hw << ", step " << n;
+    }
+  }
+  EXPECT_GE(failed, 1);  // the largest steps do fail
+}
+
 TEST(EmbeddingAdaptive, Dop853MeetsTheTolerance) {
   const State<double> x0 = test::skew_initial_state();
   const Reference ref = make_reference(skew_top(), x0, 2.0);
