@@ -18,10 +18,14 @@
 // across small helpers; left to its heuristics GCC 12 sometimes keeps helpers out of line, and the
 // decision flips with unrelated code in the translation unit (RKMK4 measured 1233 or 1768 instructions a
 // step for the same source; 960 flattened).
+// Defined empty by the build of code that needs no speed (the tests: -DLGI_FLATTEN=), where flattening
+// every Jet instantiation costs compile time and buys nothing.
+#if !defined(LGI_FLATTEN)
 #if defined(__GNUC__)
 #define LGI_FLATTEN [[gnu::flatten]]
 #else
 #define LGI_FLATTEN
+#endif
 #endif
 
 namespace lgi {
