@@ -1,0 +1,175 @@
+// lgi/integrators/batch_lgvi.hpp — the LGVI on many heavy tops (or free bodies) at once, vectorised across bodies.
+//
+// Computes, for every body i of a BodyBatch (core/batch.hpp), n_steps steps of Lgvi<HeavyTop<double>> or
+// Lgvi<FreeBody<double>> (integrators/lgvi.hpp) — the kick + LGVI (Lee, Leok, McClamroch 2005/2007):
+//
+//   h hat(Π_k + ½h M_k) = F_k J_d − J_d F_kᵀ,   R_{k+1} = R_k F_k,   Π_{k+1} = F_kᵀ(Π_k + ½h M_k) + ½h M_{k+1},
+//
+// with F_k the Cayley map of 2c, G(c) = Jc + c × Jc − ½(1 + c·c) h(Π_k + ½h M_k) = 0 solved by two
+// fixed-point sweeps and Newton as in lgvi.hpp, and the heavy-top torque M = b (Rᵀk) × z0
+// (problems/heavy_top.hpp). See lgvi.hpp for the equations' sources and what the method preserves.
+//
+// What is preserved: the results — R, Ω, status and the step at which a body stopped — equal, bit for bit, a
+// single-body run y = to_internal(x, t0), y ← step(y, t0 + n h, h) of the same Lgvi stepper (problem, options),
+// for every body, whatever the lane width and the number of threads. The lane loops
+// (integrators/batch_lgvi_kernel.hpp) repeat the single-body arithmetic operation for operation (Eigen's
+// evaluation order included); lanes whose Newton needs fewer iterations stop updating while the others
+// continue; a failing body (not_converged, non_finite) keeps its last good state and leaves its lane.
+// tests/test_batch.cpp checks all of this.
+//
+// Kernels (BatchKernel):
+//   baseline   lane blocks of 2 bodies (one SSE2 vector), the build's own flags (x86-64 baseline)
+//   avx2       lane blocks of 4 bodies (one AVX vector), compiled with -mavx2 -mfma -ffp-contract=off in the library
+//              lgi::batch (integrators/batch_lgvi_avx2.cpp); available when that library is linked
+//              (it defines LGI_HAVE_BATCH_AVX2) and the CPU has AVX2 and FMA. No FMA contraction, so the bits
+//              are the baseline's.
+//   per_body   integrate_batch<Lgvi> (core/batch.hpp): the single-body stepper per body
+//   automatic  avx2 when available, else baseline; per_body when J is not diagonal
+// Per-body parameters: the heavy top's b (m g ℓ) may differ per body (the span `b`); J, k, z0, h and the
+// stepper options are shared.
+//
+// Limits: diagonal J only (the principal-axes frame, J = diag(I1, I2, I3)); any other J runs per_body. Double only.
+// Autonomous problems only (the heavy-top torque does not depend on t; t0 is passed to per_body alone).
+// Bit identity holds against the single-body stepper compiled for the baseline x86-64 instruction set
+// without FMA contraction (the library's builds): compiled with -mavx or wider, Eigen evaluates some 3-term
+// sums of the single-body code in another order, and with FMA contraction its products round differently.
+#pragma once
+
+#include "../core/batch.hpp"
+#include "../core/inertia.hpp"
+#include "../problems/free_body.hpp"
+#include "../problems/heavy_top.hpp"
+#include "batch_lgvi_kernel.hpp"
+#include "lgvi.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <stdexcept>
+#include <string>
+
+namespace lgi {
+
+namespace batch_kernel {
+static_assert(status_ok == static_cast<std::uint8_t>(StepStatus::ok) &&
+              status_not_converged == static_cast<std::uint8_t>(StepStatus::not_converged) &&
+              status_non_finite == static_cast<std::uint8_t>(StepStatus::non_finite));
+static_assert(sizeof(StepStatus) == 1);
+inline constexpr int baseline_width = 2;
+inline constexpr int avx2_width = 4;
+#if defined(LGI_HAVE_BATCH_AVX2)
+// In lgi::batch (integrators/batch_lgvi_avx2.cpp): blocks [block_begin, block_end) of avx2_width bodies.
+void run_blocks_avx2(const LgviParams& p, const LgviIO& io, std::size_t block_begin, std::size_t block_end, double h,
+                     std::int64_t n_steps, bool torque);
+#endif
+}  // namespace batch_kernel
+
+enum class BatchKernel : std::uint8_t { automatic, baseline, avx2, per_body };
+
+// True when the AVX2 kernel is linked in (lgi::batch) and this CPU runs it.
+inline bool batch_avx2_available() {
+#if defined(LGI_HAVE_BATCH_AVX2)
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+  return false;
+#endif
+}
+
+template <class P>
+concept LgviBatchProblem = std::same_as<P, HeavyTop<double>> || std::same_as<P, FreeBody<double>>;
+
+// Integrates every body of `batch` n_steps steps of h with Lgvi<P>(problem, options) (per body: b[i] in place of
+// problem.b when `b` is not empty; heavy top only). Returns the kernel that ran. Throws std::invalid_argument
+// for a bad argument (b's length, b with the free body, avx2 requested but unavailable, h, n_steps, options).
+template <LgviBatchProblem P>
+BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, double h, std::int64_t n_steps,
+                                 const StepperOptions& options = {}, const BatchOptions& batch_options = {},
+                                 std::span<const double> b = {}, BatchKernel kernel = BatchKernel::automatic) {
+  constexpr bool torque = std::same_as<P, HeavyTop<double>>;
+  options.check();
+  detail::check_batch_run(batch, h, n_steps);
+  if (!b.empty() && !torque) throw std::invalid_argument("lgi::integrate_batch_lgvi: per-body b given for a free body");
+  if (!b.empty() && b.size() != batch.size())
+    throw std::invalid_argument("lgi::integrate_batch_lgvi: per-body b has " + std::to_string(b.size()) +
+                                " entries for " + std::to_string(batch.size()) + " bodies");
+  if (kernel == BatchKernel::avx2 && !batch_avx2_available())
+    throw std::invalid_argument("lgi::integrate_batch_lgvi: the avx2 kernel is not available (lgi::batch not linked, or no AVX2+FMA CPU)");
+
+  const Inertia<double> J(problem.inertia);
+  if (kernel == BatchKernel::automatic)
+    kernel = !J.diagonal ? BatchKernel::per_body : batch_avx2_available() ? BatchKernel::avx2 : BatchKernel::baseline;
+  if (kernel == BatchKernel::per_body || !J.diagonal) {
+    if (b.empty()) {
+      integrate_batch<Lgvi>(problem, batch, t0, h, n_steps, options, batch_options);
+    } else {
+      integrate_batch<Lgvi>(
+          [&](std::size_t i) {
+            P p = problem;
+            if constexpr (torque) p.b = b[i];
+            return p;
+          },
+          batch, t0, h, n_steps, options, batch_options);
+    }
+    return BatchKernel::per_body;
+  }
+
+  // The shared data, exactly as Lgvi's constructor and solve_cayley compute them.
+  batch_kernel::LgviParams p{};
+  const auto inf_norm = [](const Mat3<double>& M) {
+    double n = 0;
+    for (int r = 0; r < 3; ++r) {
+      double row = 0;
+      for (int c = 0; c < 3; ++c) row += std::abs(M(r, c));
+      n = std::max(n, row);
+    }
+    return n;
+  };
+  const Vec3<double> I = J.J.diagonal();
+  for (int j = 0; j < 3; ++j) {
+    p.J[j] = J.J(j, j);
+    p.J_inv[j] = J.J_inv(j, j);
+  }
+  p.d[0] = I(2) - I(1);
+  p.d[1] = I(0) - I(2);
+  p.d[2] = I(1) - I(0);
+  p.J_norm = inf_norm(J.J);
+  p.J_inv_norm = inf_norm(J.J_inv);
+  p.floor = std::max(options.tolerance, static_cast<double>(16 * std::numeric_limits<double>::epsilon()) * p.J_norm *
+                                            p.J_inv_norm);
+  p.tolerance = options.tolerance;
+  p.max_iterations = options.max_iterations;
+  if constexpr (torque) {
+    for (int j = 0; j < 3; ++j) {
+      p.k[j] = problem.k(j);
+      p.z0[j] = problem.z0(j);
+    }
+    p.b = problem.b;
+  }
+
+  batch_kernel::LgviIO io{};
+  for (int e = 0; e < 9; ++e) io.R[e] = batch.R[static_cast<std::size_t>(e)].data();
+  for (int j = 0; j < 3; ++j) io.Omega[j] = batch.Omega[static_cast<std::size_t>(j)].data();
+  io.status = reinterpret_cast<std::uint8_t*>(batch.status.data());
+  io.steps = batch.steps.data();
+  io.b = b.empty() ? nullptr : b.data();
+  io.n = batch.size();
+
+  const int width = kernel == BatchKernel::avx2 ? batch_kernel::avx2_width : batch_kernel::baseline_width;
+  const std::size_t blocks = (batch.size() + static_cast<std::size_t>(width) - 1) / static_cast<std::size_t>(width);
+  const int threads = detail::batch_threads(batch_options, blocks);
+  detail::parallel_slices(blocks, threads, [&](std::size_t begin, std::size_t end) {
+#if defined(LGI_HAVE_BATCH_AVX2)
+    if (kernel == BatchKernel::avx2) {
+      batch_kernel::run_blocks_avx2(p, io, begin, end, h, n_steps, torque);
+      return;
+    }
+#endif
+    batch_kernel::baseline::run_blocks<batch_kernel::baseline_width, torque>(p, io, begin, end, h, n_steps);
+  });
+  return kernel;
+}
+
+}  // namespace lgi
