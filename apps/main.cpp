@@ -4,6 +4,8 @@
 //                                    integrate a scene; CSV to FILE (or stdout), a summary on stderr
 //   lgi run --resume CK [-o FILE] [-q]   continue a stopped run from its checkpoint, bit for bit
 //   lgi fit FITFILE [-o FILE] [-v]   fit initial conditions and parameters to observations (apps/fit_command.hpp)
+//   lgi sweep SWEEPFILE -o FILE [--threads N] [--shard i/N]   run a scene's members, one CSV row each
+//   lgi merge PART... -o FILE        the shards of a sweep into the serial run's file (apps/sweep_command.hpp)
 //   lgi list [--markdown]            problems and methods, with each method's order and structure
 //
 // Exit status: 0 success; 1 bad command line, scene or checkpoint (one message naming the file, JSON path and
@@ -21,6 +23,7 @@
 #include "scene.hpp"
 #include "command.hpp"
 #include "fit_command.hpp"
+#include "sweep_command.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -354,6 +357,22 @@ int main(int argc, char** argv) {
   fit->add_flag("-v,--verbose", fit_options.verbose, "Ceres' full report and per-iteration progress on stderr");
   fit->add_flag("-q,--quiet", fit_options.quiet, "Nothing on stderr but errors");
 
+  auto* sweep = app.add_subcommand("sweep", "Run a sweep file's members (grid or seeded random): one CSV row each");
+  lgi::app::SweepCommandOptions sweep_options;
+  sweep->add_option("SWEEPFILE", sweep_options.sweep_file, "Sweep file: a scene plus a \"sweep\" section (docs/sweep.md)")
+      ->required();
+  sweep->add_option("-o,--output", sweep_options.output, "Write the CSV to FILE (atomically: no file on bad input)")
+      ->required();
+  sweep->add_option("--threads", sweep_options.threads, "Worker threads (0: all cores; default 1); same bytes for any N");
+  sweep->add_option("--shard", sweep_options.shard, "Run the members m with m mod N = i and write a part for lgi merge");
+  sweep->add_flag("-q,--quiet", sweep_options.quiet, "Nothing on stderr but errors");
+
+  auto* merge = app.add_subcommand("merge", "Merge the part files of lgi sweep --shard into the serial run's CSV");
+  lgi::app::MergeCommandOptions merge_options;
+  merge->add_option("PART", merge_options.parts, "The N part files of one sweep (any order)")->required();
+  merge->add_option("-o,--output", merge_options.output, "Write the CSV to FILE (atomically)")->required();
+  merge->add_flag("-q,--quiet", merge_options.quiet, "Nothing on stderr but errors");
+
   auto* list = app.add_subcommand("list", "List the problems and methods lgi knows, with their properties");
   bool markdown = false;
   list->add_flag("--markdown", markdown, "Print the method table as markdown (the README's table)");
@@ -367,6 +386,12 @@ int main(int argc, char** argv) {
   try {
     if (run->parsed()) return run_command(run_options);
     if (fit->parsed()) return lgi::app::fit_command(fit_options);
+    if (sweep->parsed()) {
+      catch_interrupts();  // stop between members (and inside one) and remove the temporary output
+      sweep_options.stop = &g_signal;
+      return lgi::app::sweep_command(sweep_options);
+    }
+    if (merge->parsed()) return lgi::app::merge_command(merge_options);
     if (list->parsed()) return list_command(markdown);
   } catch (const std::exception& e) {
     return fail(exit_internal_error, std::string("internal error: ") + e.what());

@@ -21,6 +21,7 @@ packages=(
   libsundials-dev       # benchmarks: SUNDIALS 6.4 CVODE Adams and ARKODE ERK, peers in work_precision
   python3-matplotlib    # benchmarks: scripts/bench_report.py plots (Debian's /usr/bin/python3)
   clang libclang-rt-14-dev  # scene fuzzer (fuzz/): clang-14 only Recommends the libFuzzer/ASan runtimes (rt-14-dev)
+  libopenmpi-dev openmpi-bin  # lgi_sweep_mpi (optional, apps/sweep_mpi.cpp): Open MPI, and mpirun for its test
 )
 # shellcheck disable=SC2206
 packages+=(${LGI_DEPS_EXTRA:-})

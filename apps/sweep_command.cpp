@@ -1,0 +1,580 @@
+// lgi/apps/sweep_command.cpp — `lgi sweep` and `lgi merge` (sweep_command.hpp has the contract,
+// docs/sweep.md the user's guide).
+#include "sweep_command.hpp"
+
+#include "command.hpp"
+#include "json_reader.hpp"
+#include "runner.hpp"
+#include "scene.hpp"
+
+#include <lgi/core/so3.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <csignal>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace lgi::app {
+
+namespace {
+
+inline constexpr std::int64_t max_members = 10'000'000;
+
+std::uint64_t fnv1a64(const std::string& s) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const char c : s) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+
+// splitmix64's output function applied to z + the golden-ratio increment (Vigna, splitmix64.c).
+std::uint64_t splitmix64(std::uint64_t z) {
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+// Appends x as the runner's RowWriter writes it: std::to_chars, general, 17 significant digits.
+void append_number(std::string& out, double x) {
+  char buf[40];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, 17);
+  out.append(buf, r.ptr);
+}
+
+std::string hex64(std::uint64_t h) {
+  char buf[20];
+  std::snprintf(buf, sizeof buf, "%016" PRIx64, h);
+  return buf;
+}
+
+enum class Record { status, final, invariants };
+
+struct Key {
+  std::string pointer;
+  json::json_pointer ptr;
+  std::vector<double> values;  // grid: the axis's values
+  double lo = 0, hi = 0;       // random: the range
+};
+
+struct Sweep {
+  std::string file;
+  json scene;  // the sweep file without its "sweep" section
+  bool random = false;
+  std::vector<Key> keys;
+  std::uint64_t seed = 0;
+  std::int64_t members = 0;
+  std::vector<Record> record;
+  std::string header;  // without the newline
+  std::uint64_t hash = 0;
+};
+
+// Member m's values, one per key.
+std::vector<double> member_values(const Sweep& s, std::int64_t m) {
+  std::vector<double> v(s.keys.size());
+  if (s.random) {
+    for (std::size_t k = 0; k < s.keys.size(); ++k) {
+      const Key& key = s.keys[k];
+      v[k] = key.lo + (key.hi - key.lo) * sweep_uniform(s.seed, static_cast<std::uint64_t>(m), key.pointer);
+    }
+    return v;
+  }
+  for (std::size_t k = s.keys.size(); k-- > 0;) {  // the last key varies fastest
+    const auto n = static_cast<std::int64_t>(s.keys[k].values.size());
+    v[k] = s.keys[k].values[static_cast<std::size_t>(m % n)];
+    m /= n;
+  }
+  return v;
+}
+
+std::string values_text(const Sweep& s, const std::vector<double>& v) {
+  std::string t;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    if (k > 0) t += ", ";
+    t += s.keys[k].pointer + " = " + format_number(v[k]);
+  }
+  return t;
+}
+
+// The member's scene, loaded: a bad value is an InputError naming `label` (the member and its values).
+Scene member_scene(const Sweep& s, const std::vector<double>& v, const std::string& label) {
+  json document = s.scene;
+  for (std::size_t k = 0; k < v.size(); ++k) document[s.keys[k].ptr] = v[k];
+  return parse_scene(document, s.file + " (" + label + ")");
+}
+
+std::string member_label(const Sweep& s, std::int64_t m, const std::vector<double>& v) {
+  return "member " + std::to_string(m) + ": " + values_text(s, v);
+}
+
+// A key of the grid or the ranges: a JSON pointer to a number of the scene.
+Key read_key(const Node& owner, const std::string& pointer, const json& scene) {
+  const Node node = owner.at(pointer);
+  Key key;
+  key.pointer = pointer;
+  if (pointer.empty() || pointer[0] != '/')
+    node.fail("the key " + quoted_input(pointer) + " is not a JSON pointer into the scene (e.g. \"/initial/omega/2\")");
+  try {
+    key.ptr = json::json_pointer(pointer);
+  } catch (const json::exception&) {
+    node.fail("the key " + quoted_input(pointer) + " is not a valid JSON pointer (RFC 6901: '~' only as ~0 or ~1)");
+  }
+  if (pointer.find_first_of(",\"\r\n") != std::string::npos)
+    node.fail("the key " + quoted_input(pointer) + " names a CSV column: it may not hold ',', '\"' or a line break");
+  if (pointer == "/sweep" || pointer.rfind("/sweep/", 0) == 0) node.fail("a sweep cannot sweep its own \"sweep\" section");
+  const json* target = nullptr;
+  try {
+    if (scene.contains(key.ptr)) target = &scene.at(key.ptr);
+  } catch (const json::exception&) {
+  }
+  if (!target) node.fail(quoted_input(pointer) + " is not in the scene (the pointer must name an existing number)");
+  if (!target->is_number())
+    node.fail(quoted_input(pointer) + " points at " + describe(*target) + " in the scene, not at a number");
+  return key;
+}
+
+std::vector<double> read_axis(const Node& node) {
+  std::vector<double> values;
+  if (node.is_array()) {
+    if (node.size() == 0) node.fail("expected a non-empty array of numbers");
+    for (std::size_t i = 0; i < node.size(); ++i) values.push_back(node.at(i).number());
+    return values;
+  }
+  if (!node.is_object())
+    node.fail("expected an array of numbers or {\"from\", \"to\", \"count\"}, got " + describe(node.value()));
+  node.allow_only({"from", "to", "count", "log"});
+  const double from = node.at("from").number(), to = node.at("to").number();
+  const std::int64_t count = node.at("count").integer(1, max_members);
+  bool log = false;
+  if (const auto l = node.find("log")) {
+    if (!l->value().is_boolean()) l->fail("expected true or false, got " + describe(l->value()));
+    log = l->value().get<bool>();
+  }
+  if (log && !(from > 0)) node.at("from").fail("a log axis needs from > 0, got " + format_number(from));
+  if (log && !(to > 0)) node.at("to").fail("a log axis needs to > 0, got " + format_number(to));
+  const double a = log ? std::log(from) : from, b = log ? std::log(to) : to;
+  for (std::int64_t k = 0; k < count; ++k) {
+    double v = from;
+    if (k == count - 1) v = count == 1 ? from : to;
+    else if (k > 0) {
+      const double x = a + ((b - a) * static_cast<double>(k)) / static_cast<double>(count - 1);
+      v = log ? std::exp(x) : x;
+    }
+    values.push_back(v);
+  }
+  return values;
+}
+
+Sweep read_sweep(const std::string& file) {
+  Sweep s;
+  s.file = file;
+  const json document = read_json_file(file);
+  const Node root(document, "", file);
+  if (!root.is_object()) root.fail("expected an object (a scene with a \"sweep\" section), got " + describe(document));
+  const Node sweep = root.at("sweep");
+  sweep.allow_only({"grid", "random", "record"});
+  s.scene = document;
+  s.scene.erase("sweep");
+  s.hash = fnv1a64(document.dump());
+  if (sweep.find("grid") && sweep.find("random")) sweep.at("random").fail("give either \"grid\" or \"random\", not both");
+  if (const auto grid = sweep.find("grid")) {
+    if (!grid->is_object() || grid->value().empty())
+      grid->fail("expected an object mapping JSON pointers to values, e.g. {\"/initial/omega/2\": [1, 2, 3]}, got " +
+                 describe(grid->value()));
+    s.members = 1;
+    for (const auto& [pointer, value] : grid->value().items()) {
+      Key key = read_key(*grid, pointer, s.scene);
+      key.values = read_axis(grid->at(pointer));
+      s.members *= static_cast<std::int64_t>(key.values.size());
+      if (s.members > max_members)
+        grid->fail("the grid has more than " + std::to_string(max_members) + " members (the product of the axes' sizes)");
+      s.keys.push_back(std::move(key));
+    }
+  } else if (const auto random = sweep.find("random")) {
+    s.random = true;
+    random->allow_only({"seed", "count", "ranges"});
+    s.seed = static_cast<std::uint64_t>(random->at("seed").integer(0, std::int64_t{1} << 53));
+    s.members = random->at("count").integer(1, max_members);
+    const Node ranges = random->at("ranges");
+    if (!ranges.is_object() || ranges.value().empty())
+      ranges.fail("expected an object mapping JSON pointers to [lo, hi], got " + describe(ranges.value()));
+    for (const auto& [pointer, value] : ranges.value().items()) {
+      Key key = read_key(ranges, pointer, s.scene);
+      const Node range = ranges.at(pointer);
+      if (!range.is_array() || range.size() != 2) range.fail("expected [lo, hi], got " + describe(range.value()));
+      key.lo = range.at(0).number();
+      key.hi = range.at(1).number();
+      if (!(key.lo <= key.hi))
+        range.fail("expected lo <= hi, got [" + format_number(key.lo) + ", " + format_number(key.hi) + "]");
+      s.keys.push_back(std::move(key));
+    }
+  } else {
+    sweep.fail("give \"grid\" (values per JSON pointer) or \"random\" (seed, count, ranges)");
+  }
+
+  s.record = {Record::status, Record::final, Record::invariants};
+  if (const auto record = sweep.find("record")) {
+    if (!record->is_array() || record->size() == 0)
+      record->fail("expected a non-empty array of \"status\", \"final\", \"invariants\", got " + describe(record->value()));
+    s.record.clear();
+    for (std::size_t i = 0; i < record->size(); ++i) {
+      const Node r = record->at(i);
+      const std::string name = r.string();
+      Record what = Record::status;
+      if (name == "final") what = Record::final;
+      else if (name == "invariants") what = Record::invariants;
+      else if (name != "status") r.fail("unknown column group " + quoted_input(name) + " (known: status, final, invariants)");
+      if (std::find(s.record.begin(), s.record.end(), what) != s.record.end()) r.fail(quoted_input(name) + " twice");
+      s.record.push_back(what);
+    }
+  }
+  if (const auto limits = root.find("limits"); limits && limits->is_object())
+    if (const auto wall = limits->find("max_wall_seconds"))
+      wall->fail("a sweep's rows may not depend on the machine's speed: use /limits/max_steps");
+
+  // Every member is loaded again before it runs; here, before any output: member 0, and each value of each
+  // grid axis (the others at member 0's) or each end of each random range — most bad values are caught now.
+  const std::vector<double> v0 = member_values(s, 0);
+  const Scene scene0 = member_scene(s, v0, member_label(s, 0, v0));
+  std::int64_t stride = 1;
+  for (std::size_t k = s.keys.size(); k-- > 0;) {
+    if (s.random) {
+      for (const double end : {s.keys[k].lo, s.keys[k].hi}) {
+        std::vector<double> v = v0;
+        v[k] = end;
+        member_scene(s, v, "/sweep/random/ranges/" + pointer_token(s.keys[k].pointer) + ": " + values_text(s, v));
+      }
+      continue;
+    }
+    const auto n = static_cast<std::int64_t>(s.keys[k].values.size());
+    for (std::int64_t i = 1; i < n; ++i) {
+      std::vector<double> v = v0;
+      v[k] = s.keys[k].values[static_cast<std::size_t>(i)];
+      member_scene(s, v, member_label(s, i * stride, v));
+    }
+    stride *= n;
+  }
+
+  s.header = "member";
+  for (const Key& key : s.keys) s.header += "," + key.pointer;
+  const std::string final_header = csv_header(scene0);
+  for (const Record r : s.record) {
+    if (r == Record::status) s.header += ",status,steps";
+    if (r == Record::final) s.header += "," + final_header;
+    if (r == Record::invariants) {
+      s.header += ",energy_rel_change";
+      const std::string invariants = final_header.substr(final_header.find("orthogonality_error") + 19);
+      std::size_t at = 0;
+      while (at < invariants.size()) {  // ",name,name": each name + "_rel_change"
+        const std::size_t next = invariants.find(',', at + 1);
+        s.header += invariants.substr(at, next - at) + "_rel_change";
+        at = next == std::string::npos ? invariants.size() : next;
+      }
+    }
+  }
+  return s;
+}
+
+double relative_change(double initial, double final) {
+  const double scale = std::abs(initial) > 0 ? std::abs(initial) : 1.0;
+  return std::abs(final - initial) / scale;
+}
+
+// The status column's word for a failed step (StepStatus's names; to_string gives a sentence).
+std::string status_token(StepStatus s) {
+  switch (s) {
+    case StepStatus::ok: return "ok";
+    case StepStatus::not_converged: return "not_converged";
+    case StepStatus::non_finite: return "non_finite";
+    case StepStatus::step_size_underflow: return "step_size_underflow";
+  }
+  return "step_failed";
+}
+
+enum class Outcome { completed, failed, stopped };
+
+struct MemberResult {
+  std::string row;
+  Outcome outcome = Outcome::completed;
+};
+
+MemberResult run_member(const Sweep& s, std::int64_t m, const volatile std::sig_atomic_t* stop) {
+  const std::vector<double> v = member_values(s, m);
+  const Scene scene = member_scene(s, v, member_label(s, m, v));
+  RunOptions options;  // no rows, no progress, no checkpoints
+  options.stop = stop;
+  const RunReport r = run_scene(scene, options);
+  MemberResult result;
+  std::string& row = result.row;
+  row = std::to_string(m);
+  for (const double x : v) {
+    row += ',';
+    append_number(row, x);
+  }
+  const IntegrationSummary& summary = r.summary;
+  if (summary.status == RunStatus::stopped) result.outcome = Outcome::stopped;
+  else if (summary.status != RunStatus::completed) result.outcome = Outcome::failed;
+  for (const Record what : s.record) {
+    if (what == Record::status) {
+      std::string status = "completed";
+      if (r.stop_reason == StopReason::left_domain) status = "left_domain";
+      else if (r.stop_reason == StopReason::max_steps) status = "max_steps";
+      else if (summary.status == RunStatus::step_failed) status = status_token(summary.step_status);
+      else if (summary.status == RunStatus::stopped) status = "stopped";
+      row += "," + status + "," + std::to_string(summary.steps);
+    }
+    if (what == Record::final) {
+      const State<double>& x = r.final_state;
+      row += ',';
+      append_number(row, summary.t);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          row += ',';
+          append_number(row, x.R(i, j));
+        }
+      for (int i = 0; i < 3; ++i) {
+        row += ',';
+        append_number(row, x.Omega(i));
+      }
+      row += ',';
+      append_number(row, r.energy_final);
+      row += ',';
+      append_number(row, so3::orthogonality_error(x.R));
+      for (const InvariantChange& inv : r.invariants) {
+        row += ',';
+        append_number(row, inv.final);
+      }
+    }
+    if (what == Record::invariants) {
+      row += ',';
+      append_number(row, relative_change(r.energy_initial, r.energy_final));
+      for (const InvariantChange& inv : r.invariants) {
+        row += ',';
+        append_number(row, relative_change(inv.initial, inv.final));
+      }
+    }
+  }
+  row += '\n';
+  return result;
+}
+
+std::string shard_line(std::int64_t i, std::int64_t n, std::int64_t members, std::uint64_t hash) {
+  return "# lgi sweep shard " + std::to_string(i) + "/" + std::to_string(n) + ": " + std::to_string(members) +
+         " members, sweep " + hex64(hash) + ", lgi " + LGI_VERSION;
+}
+
+// "i/N" with 0 <= i < N, both decimal integers.
+bool parse_shard(const std::string& text, std::int64_t& i, std::int64_t& n) {
+  const std::size_t slash = text.find('/');
+  if (slash == std::string::npos) return false;
+  const auto number = [](const std::string& t, std::int64_t& x) {
+    if (t.empty() || t.size() > 9 || t.find_first_not_of("0123456789") != std::string::npos) return false;
+    x = std::stoll(t);
+    return true;
+  };
+  return number(text.substr(0, slash), i) && number(text.substr(slash + 1), n) && n >= 1 && i < n;
+}
+
+}  // namespace
+
+double sweep_uniform(std::uint64_t seed, std::uint64_t member, const std::string& pointer) {
+  const std::uint64_t x = splitmix64(seed ^ splitmix64(fnv1a64(pointer) ^ splitmix64(member)));
+  return static_cast<double>(x >> 11) * 0x1p-53;
+}
+
+int sweep_command(const SweepCommandOptions& options) {
+  std::int64_t shard = 0, shards = 1;
+  const bool sharded = !options.shard.empty();
+  if (sharded && !parse_shard(options.shard, shard, shards))
+    return fail(exit_bad_input, "--shard: expected i/N with 0 <= i < N (e.g. 0/4), got " + quoted_input(options.shard));
+  if (options.threads < 0) return fail(exit_bad_input, "--threads: expected 0 (all cores) or a positive number");
+  if (options.output.empty()) return fail(exit_bad_input, "sweep: -o FILE is required");
+  Sweep s;
+  try {
+    s = read_sweep(options.sweep_file);
+  } catch (const InputError& e) {
+    return fail(exit_bad_input, e.what());
+  }
+  // This shard's members: m = shard + k * shards, k = 0 ... count - 1.
+  const std::int64_t count = s.members > shard ? (s.members - shard + shards - 1) / shards : 0;
+  unsigned threads = options.threads > 0 ? static_cast<unsigned>(options.threads) : std::thread::hardware_concurrency();
+  threads = static_cast<unsigned>(std::clamp<std::int64_t>(std::min<std::int64_t>(threads, count), 1, 4096));
+
+  std::unique_ptr<AtomicOutput> out;
+  try {
+    out = std::make_unique<AtomicOutput>(options.output);
+  } catch (const std::exception& e) {
+    return fail(exit_io_error, e.what());
+  }
+  std::FILE* f = out->file();
+  std::string head;
+  if (sharded) head = shard_line(shard, shards, s.members, s.hash) + "\n";
+  head += s.header + "\n";
+  bool write_failed = std::fwrite(head.data(), 1, head.size(), f) != head.size();
+
+  const auto start = std::chrono::steady_clock::now();
+  std::atomic<std::int64_t> next{0};
+  std::atomic<bool> abort{false};
+  std::mutex mutex;  // guards everything below
+  std::map<std::int64_t, std::string> pending;  // finished rows waiting for the ones before them
+  std::int64_t written = 0;
+  std::int64_t outcomes[3] = {0, 0, 0};
+  std::optional<std::pair<std::int64_t, std::string>> error;  // the lowest failing member seen, and its message
+  int error_status = exit_bad_input;
+  const auto work = [&] {
+    for (;;) {
+      const std::int64_t k = next.fetch_add(1);
+      if (k >= count || abort.load() || (options.stop && *options.stop)) return;
+      const std::int64_t m = shard + k * shards;
+      MemberResult result;
+      try {
+        result = run_member(s, m, options.stop);
+      } catch (const std::exception& e) {
+        const std::lock_guard lock(mutex);
+        if (!error || m < error->first) {
+          error.emplace(m, e.what());
+          error_status = dynamic_cast<const InputError*>(&e) ? exit_bad_input : exit_internal_error;
+        }
+        abort = true;
+        return;
+      }
+      const std::lock_guard lock(mutex);
+      ++outcomes[static_cast<int>(result.outcome)];
+      pending.emplace(k, std::move(result.row));
+      for (auto it = pending.begin(); it != pending.end() && it->first == written; it = pending.erase(it), ++written)
+        write_failed = write_failed || std::fwrite(it->second.data(), 1, it->second.size(), f) != it->second.size();
+    }
+  };
+  std::vector<std::thread> workers;
+  for (unsigned t = 1; t < threads; ++t) workers.emplace_back(work);
+  work();
+  for (std::thread& t : workers) t.join();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (options.stop && *options.stop) {  // `out` removes its temporary file: nothing is written
+    const int signal = *options.stop;
+    return fail(128 + signal, std::string("sweep interrupted by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM") + " after " +
+                                  std::to_string(written) + " of " + std::to_string(count) +
+                                  " members: nothing written (rerun, or run it in shards with --shard)");
+  }
+  if (error) {
+    if (error_status == exit_internal_error) return fail(exit_internal_error, "internal error: " + error->second);
+    return fail(exit_bad_input, error->second);
+  }
+  if (write_failed || written != count) return fail(exit_io_error, options.output + ": write error");
+  if (!out->commit()) return fail(exit_io_error, options.output + ": cannot write the output file: " + std::strerror(errno));
+  if (!options.quiet) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "%s: %lld members%s, %u thread%s, %.3f s (%.1f members/s): %lld completed, %lld step failed, "
+                  "%lld stopped; %s\n",
+                  options.sweep_file.c_str(), static_cast<long long>(s.members),
+                  sharded ? (" (shard " + options.shard + ": " + std::to_string(count) + ")").c_str() : "", threads,
+                  threads == 1 ? "" : "s", seconds, seconds > 0 ? static_cast<double>(count) / seconds : 0.0,
+                  static_cast<long long>(outcomes[0]), static_cast<long long>(outcomes[1]),
+                  static_cast<long long>(outcomes[2]), options.output.c_str());
+    std::fputs(buf, stderr);
+  }
+  return 0;
+}
+
+int merge_command(const MergeCommandOptions& options) {
+  if (options.output.empty()) return fail(exit_bad_input, "merge: -o FILE is required");
+  if (options.parts.empty()) return fail(exit_bad_input, "merge: give the part files of a sweep (lgi sweep --shard)");
+  struct Part {
+    std::string file;
+    std::int64_t i = 0, n = 0, members = 0;
+    std::string line, header;
+    std::unique_ptr<std::ifstream> in;
+    std::int64_t line_number = 2;
+  };
+  std::vector<Part> parts;
+  for (const std::string& file : options.parts) {
+    Part p;
+    p.file = file;
+    p.in = std::make_unique<std::ifstream>(file, std::ios::binary);
+    if (!*p.in) return fail(exit_bad_input, file + ": cannot read the part file: " + std::strerror(errno));
+    std::getline(*p.in, p.line);
+    char hash[32] = {};
+    long long i = 0, n = 0, members = 0;
+    if (std::sscanf(p.line.c_str(), "# lgi sweep shard %lld/%lld: %lld members, sweep %16s", &i, &n, &members, hash) != 4 ||
+        n < 1 || i < 0 || i >= n || members < 1)
+      return fail(exit_bad_input, file + ":1: not a part file of lgi sweep --shard (expected \"# lgi sweep shard i/N: ...\")");
+    p.i = i;
+    p.n = n;
+    p.members = members;
+    if (!std::getline(*p.in, p.header)) return fail(exit_bad_input, file + ":2: the CSV header is missing");
+    const Part* first = parts.empty() ? nullptr : &parts.front();
+    if (first) {
+      // Everything but the shard index must be the first part's: the same sweep, split the same way.
+      const std::string mine = p.line.substr(p.line.find(':')), theirs = first->line.substr(first->line.find(':'));
+      if (mine != theirs || p.n != first->n)
+        return fail(exit_bad_input, file + ":1: a shard of another sweep, split or lgi version (\"" + p.line + "\"; " +
+                                        first->file + " has \"" + first->line + "\")");
+      if (p.header != first->header)
+        return fail(exit_bad_input, file + ":2: the CSV header differs from " + first->file + "'s");
+      for (const Part& q : parts)
+        if (q.i == p.i)
+          return fail(exit_bad_input, file + ": shard " + std::to_string(p.i) + "/" + std::to_string(p.n) +
+                                          " again (also " + q.file + ")");
+    }
+    parts.push_back(std::move(p));
+  }
+  const std::int64_t n = parts.front().n, members = parts.front().members;
+  if (static_cast<std::int64_t>(parts.size()) != n) {
+    std::string missing;
+    for (std::int64_t i = 0; i < n; ++i)
+      if (std::none_of(parts.begin(), parts.end(), [&](const Part& p) { return p.i == i; }))
+        missing += (missing.empty() ? "" : ", ") + std::to_string(i) + "/" + std::to_string(n);
+    return fail(exit_bad_input, "merge: shard " + missing + " of the sweep in " + parts.front().file + " is missing");
+  }
+  std::sort(parts.begin(), parts.end(), [](const Part& a, const Part& b) { return a.i < b.i; });
+
+  std::unique_ptr<AtomicOutput> out;
+  try {
+    out = std::make_unique<AtomicOutput>(options.output);
+  } catch (const std::exception& e) {
+    return fail(exit_io_error, e.what());
+  }
+  std::FILE* f = out->file();
+  bool write_failed = std::fputs((parts.front().header + "\n").c_str(), f) < 0;
+  std::string row;
+  for (std::int64_t m = 0; m < members; ++m) {
+    Part& p = parts[static_cast<std::size_t>(m % n)];
+    ++p.line_number;
+    const std::string expected = std::to_string(m) + ",";
+    if (!std::getline(*p.in, row) || row.compare(0, expected.size(), expected) != 0)
+      return fail(exit_bad_input, p.file + ":" + std::to_string(p.line_number) + ": expected the row of member " +
+                                      std::to_string(m) + (p.in->eof() ? ", the file ends (an unfinished shard?)" : ""));
+    row += '\n';
+    write_failed = write_failed || std::fwrite(row.data(), 1, row.size(), f) != row.size();
+  }
+  for (Part& p : parts)
+    if (std::getline(*p.in, row))
+      return fail(exit_bad_input, p.file + ":" + std::to_string(p.line_number + 1) + ": a row after the shard's last member");
+  if (write_failed) return fail(exit_io_error, options.output + ": write error");
+  if (!out->commit()) return fail(exit_io_error, options.output + ": cannot write the output file: " + std::strerror(errno));
+  if (!options.quiet)
+    std::fprintf(stderr, "merged %lld members from %lld shards into %s\n", static_cast<long long>(members),
+                 static_cast<long long>(n), options.output.c_str());
+  return 0;
+}
+
+}  // namespace lgi::app

@@ -1,0 +1,395 @@
+// `lgi sweep` and `lgi merge`, run as separate processes (apps/sweep_command.hpp, docs/sweep.md): the grid's
+// member order and values, random members reproducible, in range and as the documented generator gives them; a
+// member's row equal character for character to the last row `lgi run` writes for the scene with the member's
+// values (a completed member and one whose step fails mid-run); --threads 1/2/3 and --shard i/3 + merge give the
+// serial run's bytes; bad sweep files, shard specs and part sets end in exit 1, one line naming the problem, no
+// output file.
+#include "lgi_process.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using lgi::test::CommandResult;
+using lgi::test::slurp;
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::string cell;
+  std::istringstream in(s);
+  while (std::getline(in, cell, sep)) out.push_back(cell);
+  return out;
+}
+
+std::vector<std::string> lines_of(const std::string& text) { return split(text, '\n'); }
+
+// The heavy top of scenes/heavy_top.json over a short time (10 steps), with the sweep section appended.
+std::string heavy_top_sweep(const std::string& sweep) {
+  return R"({"problem": {"type": "heavy_top", "inertia": [2.0, 2.0, 1.0], "b": 1.0, "k": [0.0, 0.6, 0.8],
+              "z0": [0.0, 0.0, 1.0]},
+             "initial": {"omega": [0.1, 0.2, 5.0]},
+             "integrator": {"method": "lgvi", "dt": 0.01}, "t_end": 0.1)" +
+         (sweep.empty() ? std::string() : ", \"sweep\": " + sweep) + "}";
+}
+
+class CliSweep : public lgi::test::CommandTest {
+ protected:
+  CliSweep() : CommandTest("cli_sweep") {}
+
+  // lgi sweep FILE -o OUT ARGS; returns the result (OUT's bytes via slurp).
+  CommandResult sweep(const std::string& file, const std::string& out, const std::string& args = "") {
+    return lgi("sweep " + (dir_ / file).string() + " -o " + (dir_ / out).string() + " " + args);
+  }
+  std::string read(const std::string& name) { return slurp(dir_ / name); }
+
+  // Nothing in dir_ but the files named: no output, no temporary file.
+  void expect_only(const std::vector<std::string>& names) {
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << "unexpected file " << name;
+    }
+  }
+};
+
+// Two axes: keys in byte order ("/initial/omega/2" < "/problem/b"), the last varying fastest; a linear and a
+// log {"from", "to", "count"} axis; the header; every member completes its 10 steps.
+TEST_F(CliSweep, GridMembersComeInDocumentedOrderWithTheirValues) {
+  write("grid.json", heavy_top_sweep(R"({"grid": {"/problem/b": {"from": 0.5, "to": 1.5, "count": 3},
+                                                  "/initial/omega/2": [3, 5]}})"));
+  const CommandResult r = sweep("grid.json", "out.csv");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  EXPECT_NE(r.err.find("6 members"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("6 completed, 0 step failed, 0 stopped"), std::string::npos) << r.err;
+  const auto lines = lines_of(read("out.csv"));
+  ASSERT_EQ(lines.size(), 7u);
+  EXPECT_EQ(lines[0],
+            "member,/initial/omega/2,/problem/b,status,steps,t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega1,omega2,omega3,"
+            "energy,orthogonality_error,momentum_k,energy_rel_change,momentum_k_rel_change");
+  const double omega[] = {3, 5}, b[] = {0.5, 1.0, 1.5};
+  for (int m = 0; m < 6; ++m) {
+    const auto cells = split(lines[static_cast<std::size_t>(m) + 1], ',');
+    ASSERT_EQ(cells.size(), 23u);
+    EXPECT_EQ(cells[0], std::to_string(m));
+    EXPECT_EQ(std::strtod(cells[1].c_str(), nullptr), omega[m / 3]) << m;
+    EXPECT_EQ(std::strtod(cells[2].c_str(), nullptr), b[m % 3]) << m;
+    EXPECT_EQ(cells[3], "completed");
+    EXPECT_EQ(cells[4], "10");
+    // The LGVI keeps m·k to round-off (momentum_k_rel_change) and the energy to O(h²) over 10 steps.
+    EXPECT_LT(std::strtod(cells[22].c_str(), nullptr), 1e-13) << lines[static_cast<std::size_t>(m) + 1];
+    EXPECT_LT(std::strtod(cells[21].c_str(), nullptr), 1e-3) << lines[static_cast<std::size_t>(m) + 1];
+  }
+
+  write("log.json", heavy_top_sweep(R"({"grid": {"/problem/b": {"from": 1, "to": 100, "count": 3, "log": true}},
+                                          "record": ["status"]})"));
+  ASSERT_EQ(sweep("log.json", "log.csv").status, 0);
+  const auto log_lines = lines_of(read("log.csv"));
+  ASSERT_EQ(log_lines.size(), 4u);
+  EXPECT_EQ(log_lines[0], "member,/problem/b,status,steps");
+  EXPECT_EQ(log_lines[1].substr(0, 4), "0,1,");
+  EXPECT_NEAR(std::strtod(split(log_lines[2], ',')[1].c_str(), nullptr), 10.0, 1e-14);
+  EXPECT_EQ(log_lines[3].substr(0, 6), "2,100,");  // the end exactly
+}
+
+// splitmix64 and FNV-1a as docs/sweep.md states them, written out here from their published constants.
+std::uint64_t mix(std::uint64_t z) {
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+double documented_uniform(std::uint64_t seed, std::uint64_t member, const std::string& key) {
+  std::uint64_t h = 14695981039346656037ULL;
+  for (const char c : key) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ULL;
+  return static_cast<double>(mix(seed ^ mix(h ^ mix(member))) >> 11) / 9007199254740992.0;
+}
+
+// Random members: in [lo, hi], as the documented generator gives them, the same on every run, and a key's
+// values unchanged when another key is added to the ranges.
+TEST_F(CliSweep, RandomMembersAreReproducibleAndInRange) {
+  const std::string ranges = R"("/initial/omega/0": [-1, 1], "/problem/b": [0.5, 2])";
+  write("r.json", heavy_top_sweep(R"({"random": {"seed": 42, "count": 40, "ranges": {)" + ranges +
+                                  R"(}}, "record": ["status"]})"));
+  ASSERT_EQ(sweep("r.json", "a.csv").status, 0);
+  ASSERT_EQ(sweep("r.json", "b.csv").status, 0);
+  const std::string a = read("a.csv");
+  EXPECT_EQ(a, read("b.csv"));
+  const auto lines = lines_of(a);
+  ASSERT_EQ(lines.size(), 41u);
+  EXPECT_EQ(lines[0], "member,/initial/omega/0,/problem/b,status,steps");
+  double min0 = 1e300, max0 = -1e300;
+  for (std::uint64_t m = 0; m < 40; ++m) {
+    const auto cells = split(lines[m + 1], ',');
+    const double w = std::strtod(cells[1].c_str(), nullptr), b = std::strtod(cells[2].c_str(), nullptr);
+    EXPECT_GE(w, -1.0);
+    EXPECT_LE(w, 1.0);
+    EXPECT_GE(b, 0.5);
+    EXPECT_LE(b, 2.0);
+    EXPECT_EQ(w, -1.0 + 2.0 * documented_uniform(42, m, "/initial/omega/0")) << m;
+    EXPECT_EQ(b, 0.5 + 1.5 * documented_uniform(42, m, "/problem/b")) << m;
+    min0 = std::min(min0, w);
+    max0 = std::max(max0, w);
+  }
+  EXPECT_LT(min0, -0.5);  // 40 draws spread over the range
+  EXPECT_GT(max0, 0.5);
+
+  write("r3.json", heavy_top_sweep(R"({"random": {"seed": 42, "count": 40, "ranges": {)" + ranges +
+                                   R"(, "/initial/omega/1": [0, 1]}}, "record": ["status"]})"));
+  ASSERT_EQ(sweep("r3.json", "c.csv").status, 0);
+  const auto lines3 = lines_of(read("c.csv"));
+  ASSERT_EQ(lines3.size(), 41u);
+  for (std::size_t m = 1; m <= 40; ++m) {
+    const auto two = split(lines[m], ','), three = split(lines3[m], ',');
+    EXPECT_EQ(three[1], two[1]);  // /initial/omega/0
+    EXPECT_EQ(three[3], two[2]);  // /problem/b
+  }
+
+  write("r7.json", heavy_top_sweep(R"({"random": {"seed": 7, "count": 40, "ranges": {)" + ranges +
+                                   R"(}}, "record": ["status"]})"));
+  ASSERT_EQ(sweep("r7.json", "d.csv").status, 0);
+  EXPECT_NE(lines_of(read("d.csv"))[1], lines[1]);  // another seed, other values
+}
+
+// A member's "final" columns are `lgi run`'s last row for the scene with the member's values, character for
+// character: a completed member of the heavy top, and a free body whose RKMK4 steps overflow mid-run (the row
+// holds status non_finite and the last good state; the sweep still exits 0).
+TEST_F(CliSweep, MemberRowIsTheLastRowOfLgiRun) {
+  write("top.json", heavy_top_sweep(R"({"grid": {"/initial/omega/0": [0.1, -0.7], "/integrator/dt": [0.01, 0.025]},
+                                          "record": ["final"]})"));
+  ASSERT_EQ(sweep("top.json", "top.csv").status, 0);
+  const auto top = lines_of(read("top.csv"));
+  ASSERT_EQ(top.size(), 5u);
+  for (std::size_t m = 1; m <= 4; ++m) {
+    const auto cells = split(top[m], ',');
+    write("member.json", R"({"problem": {"type": "heavy_top", "inertia": [2.0, 2.0, 1.0], "b": 1.0,
+                                         "k": [0.0, 0.6, 0.8], "z0": [0.0, 0.0, 1.0]},
+                             "initial": {"omega": [)" + cells[1] + R"(, 0.2, 5.0]},
+                             "integrator": {"method": "lgvi", "dt": )" + cells[2] + R"(}, "t_end": 0.1})");
+    const CommandResult run = lgi("run " + (dir_ / "member.json").string() + " -q");
+    ASSERT_EQ(run.status, 0) << run.err;
+    const auto rows = lines_of(run.out);
+    const std::string prefix = cells[0] + "," + cells[1] + "," + cells[2] + ",";
+    EXPECT_EQ(top[m], prefix + rows.back()) << m;
+  }
+
+  const std::string body = R"({"problem": {"type": "free_body", "inertia": [1, 2, 3]}, "initial": {"omega": [1, W, 1]},
+                               "integrator": {"method": "rkmk4", "dt": 0.1}, "t_end": 1000)";
+  std::string sweep_file = body;
+  sweep_file.replace(sweep_file.find('W'), 1, "1");
+  write("body.json", sweep_file + R"(, "sweep": {"grid": {"/initial/omega/1": [1, 40]}, "record": ["status", "final"]}})");
+  const CommandResult r = sweep("body.json", "body.csv");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("1 completed, 1 step failed, 0 stopped"), std::string::npos) << r.err;
+  const auto rows = lines_of(read("body.csv"));
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[1].rfind("0,1,completed,10000,1000,", 0), 0u) << rows[1];
+  const auto failed = split(rows[2], ',');
+  EXPECT_EQ(failed[2], "non_finite");
+  std::string scene = body;
+  scene.replace(scene.find('W'), 1, "40");
+  write("blowup.json", scene + "}");
+  const CommandResult run = lgi("run " + (dir_ / "blowup.json").string() + " -q");
+  ASSERT_EQ(run.status, 2) << run.err;
+  const auto run_rows = lines_of(run.out);
+  EXPECT_EQ(rows[2], "1,40,non_finite," + failed[3] + "," + run_rows.back());
+  // the steps column: the last good state's time over dt
+  EXPECT_NEAR(std::strtod(failed[4].c_str(), nullptr), 0.1 * std::strtod(failed[3].c_str(), nullptr), 1e-9);
+}
+
+// The same bytes whatever the number of threads (members of different cost: dt varies 5-fold).
+TEST_F(CliSweep, ThreadCountDoesNotChangeTheBytes) {
+  write("grid.json", heavy_top_sweep(R"({"grid": {"/integrator/dt": {"from": 0.002, "to": 0.01, "count": 5},
+                                                  "/initial/omega/1": [-0.3, 0, 0.3], "/problem/b": [0.5, 1]}})"));
+  ASSERT_EQ(sweep("grid.json", "t1.csv", "--threads 1").status, 0);
+  const std::string serial = read("t1.csv");
+  EXPECT_EQ(lines_of(serial).size(), 31u);
+  for (const std::string t : {"2", "3", "0"}) {
+    const CommandResult r = sweep("grid.json", "t" + t + ".csv", "--threads " + t);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(read("t" + t + ".csv"), serial) << "--threads " << t;
+  }
+}
+
+// SIGTERM during a sweep (40 members of 1e7 LGVI steps each, over a second per member; the signal comes after 1 s):
+// exit 128 + 15, one line on stderr, and nothing written — no output, no temporary file.
+TEST_F(CliSweep, InterruptedSweepWritesNothing) {
+  write("long.json", R"({"problem": {"type": "heavy_top", "inertia": [2.0, 2.0, 1.0], "b": 1.0},
+                         "initial": {"omega": [0.1, 0.2, 5.0]}, "integrator": {"method": "lgvi", "dt": 0.001},
+                         "t_end": 10000.0, "sweep": {"grid": {"/problem/b": {"from": 0.5, "to": 1.5, "count": 40}}}})");
+  const fs::path err = fs::temp_directory_path() / ("lgi_sweep_interrupted_" + std::to_string(::getpid()) + ".txt");
+  const std::string cmd = std::string(LGI_EXE) + " sweep " + (dir_ / "long.json").string() + " -o " +
+                          (dir_ / "out.csv").string() + " --threads 2 2> " + err.string() +
+                          " & pid=$!; sleep 1; kill -TERM $pid; wait $pid";
+  const int raw = std::system(cmd.c_str());
+  const std::string message = slurp(err);
+  fs::remove(err);
+  ASSERT_TRUE(WIFEXITED(raw));
+  EXPECT_EQ(WEXITSTATUS(raw), 128 + 15) << message;
+  EXPECT_NE(message.find("interrupted by SIGTERM"), std::string::npos) << message;
+  EXPECT_NE(message.find("nothing written"), std::string::npos) << message;
+  EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
+  expect_only({"long.json"});
+}
+
+// --shard i/3 parts merged (in any order) are the serial run's file byte for byte; so are 7 shards of 30
+// members (uneven) with 2 threads each; a part carries the shard line.
+TEST_F(CliSweep, ShardsMergeToTheSerialBytes) {
+  write("grid.json", heavy_top_sweep(R"({"grid": {"/initial/omega/0": {"from": -1, "to": 1, "count": 10},
+                                                  "/problem/b": [0.5, 1, 2]}})"));
+  ASSERT_EQ(sweep("grid.json", "serial.csv").status, 0);
+  const std::string serial = read("serial.csv");
+  for (int i = 0; i < 3; ++i) {
+    const std::string part = "p" + std::to_string(i) + ".csv";
+    ASSERT_EQ(sweep("grid.json", part, "--shard " + std::to_string(i) + "/3").status, 0);
+    const auto lines = lines_of(read(part));
+    ASSERT_EQ(lines.size(), 12u);
+    EXPECT_EQ(lines[0].rfind("# lgi sweep shard " + std::to_string(i) + "/3: 30 members, sweep ", 0), 0u) << lines[0];
+  }
+  const CommandResult m = lgi("merge " + (dir_ / "p2.csv").string() + " " + (dir_ / "p0.csv").string() + " " +
+                              (dir_ / "p1.csv").string() + " -o " + (dir_ / "merged.csv").string());
+  ASSERT_EQ(m.status, 0) << m.err;
+  EXPECT_EQ(read("merged.csv"), serial);
+
+  std::string parts;
+  for (int i = 0; i < 7; ++i) {
+    const std::string part = "q" + std::to_string(i) + ".csv";
+    ASSERT_EQ(sweep("grid.json", part, "--threads 2 --shard " + std::to_string(i) + "/7").status, 0);
+    parts += (dir_ / part).string() + " ";
+  }
+  ASSERT_EQ(lgi("merge " + parts + "-o " + (dir_ / "merged7.csv").string()).status, 0);
+  EXPECT_EQ(read("merged7.csv"), serial);
+}
+
+// One bad thing at a time: exit 1, one line on stderr naming it, no output file.
+TEST_F(CliSweep, BadSweepFilesAreRefusedWithoutOutput) {
+  struct Case {
+    std::string sweep, args, message;
+  };
+  const std::vector<Case> cases = {
+      {R"({"grid": {"/initial/omegaa/2": [1, 2]}})", "", "\"/initial/omegaa/2\" is not in the scene"},
+      {R"({"grid": {"/initial/omega/3": [1, 2]}})", "", "\"/initial/omega/3\" is not in the scene"},
+      {R"({"grid": {"/integrator/method": [1, 2]}})", "",
+       "/sweep/grid/~1integrator~1method: \"/integrator/method\" points at a string (\"lgvi\") in the scene, not at a number"},
+      {R"({"grid": {"/initial/omega": [1, 2]}})", "", "points at an array of 3 in the scene, not at a number"},
+      {R"({"grid": {"initial/omega/0": [1, 2]}})", "", "is not a JSON pointer into the scene"},
+      {R"({"grid": {"/problem/b": {"from": 1, "to": 2, "count": 0}}})", "",
+       "/sweep/grid/~1problem~1b/count: expected an integer from 1 to 10000000, got 0"},
+      {R"({"grid": {"/problem/b": []}})", "", "/sweep/grid/~1problem~1b: expected a non-empty array of numbers"},
+      {R"({"grid": {"/problem/b": [1, "2"]}})", "", "/sweep/grid/~1problem~1b/1: expected a number"},
+      {R"({"grid": {"/problem/b": {"from": 1, "to": 2, "count": 5000}, "/initial/omega/0": {"from": 1, "to": 2, "count": 5000}}})",
+       "", "/sweep/grid: the grid has more than 10000000 members"},
+      {R"({"random": {"seed": 1, "count": 0, "ranges": {"/problem/b": [1, 2]}}})", "",
+       "/sweep/random/count: expected an integer from 1 to 10000000, got 0"},
+      {R"({"random": {"seed": 1, "count": 5, "ranges": {"/problem/b": [2, 1]}}})", "", "expected lo <= hi"},
+      {R"({"grid": {"/problem/b": [1]}, "random": {"seed": 1, "count": 5, "ranges": {}}})", "", "not both"},
+      {R"({"grid": {"/problem/b": [1]}, "record": ["final", "lyapunov"]})", "", "/sweep/record/1: unknown column group"},
+      // a member the loader refuses: named with its values and the scene's pointer
+      {R"({"grid": {"/problem/b": [1, -1], "/initial/omega/0": [0, 1]}})", "",
+       "(member 1: /initial/omega/0 = 0, /problem/b = -1): /problem/b: must be >= 0, got -1"},
+      {R"({"grid": {"/problem/b": [1]}})", "--shard 3/3", "--shard: expected i/N with 0 <= i < N"},
+      {R"({"grid": {"/problem/b": [1]}})", "--shard 1", "--shard: expected i/N"},
+      {R"({"grid": {"/problem/b": [1]}})", "--shard a/b", "--shard: expected i/N"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.sweep + " " + c.args);
+    write("bad.json", heavy_top_sweep(c.sweep));
+    const CommandResult r = sweep("bad.json", "out.csv", c.args);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.rfind("lgi: error: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    expect_only({"bad.json"});
+  }
+  write("wall.json", R"({"problem": {"type": "free_body", "inertia": [1, 2, 3]}, "initial": {"omega": [1, 1, 1]},
+                         "integrator": {"method": "lgvi", "dt": 0.1}, "t_end": 1, "limits": {"max_wall_seconds": 10},
+                         "sweep": {"grid": {"/t_end": [1, 2]}}})");
+  const CommandResult r = sweep("wall.json", "out.csv");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("/limits/max_wall_seconds: a sweep's rows may not depend on the machine's speed"),
+            std::string::npos)
+      << r.err;
+  write("nosweep.json", heavy_top_sweep(""));
+  EXPECT_EQ(sweep("nosweep.json", "out.csv").status, 1);
+  EXPECT_FALSE(fs::exists(dir_ / "out.csv"));
+}
+
+// Merge refuses a missing shard, a shard twice, shards of two sweeps, a cut part and a file that is no part.
+TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {
+  write("a.json", heavy_top_sweep(R"({"grid": {"/problem/b": [0.5, 1, 1.5, 2, 2.5]}, "record": ["status"]})"));
+  write("b.json", heavy_top_sweep(R"({"grid": {"/problem/b": [0.5, 1, 1.5, 2, 3]}, "record": ["status"]})"));
+  for (const std::string s : {"a", "b"})
+    for (int i = 0; i < 3; ++i)
+      ASSERT_EQ(sweep(s + ".json", s + std::to_string(i) + ".csv", "--shard " + std::to_string(i) + "/3").status, 0);
+  ASSERT_EQ(sweep("a.json", "serial.csv").status, 0);
+  const std::string cut = read("a1.csv");
+  write("cut1.csv", cut.substr(0, cut.rfind('\n', cut.size() - 2) + 1));  // its last row gone
+  const auto p = [&](const std::string& name) { return (dir_ / name).string() + " "; };
+  struct Case {
+    std::string parts, message;
+  };
+  const std::vector<Case> cases = {
+      {p("a0.csv") + p("a2.csv"), "merge: shard 1/3 of the sweep in " + p("a0.csv").substr(0, p("a0.csv").size() - 1) +
+                                      " is missing"},
+      {p("a0.csv") + p("a1.csv") + p("a1.csv"), p("a1.csv").substr(0, p("a1.csv").size() - 1) + ": shard 1/3 again"},
+      {p("a0.csv") + p("b1.csv") + p("a2.csv"), "b1.csv:1: a shard of another sweep"},
+      {p("a0.csv") + p("cut1.csv") + p("a2.csv"), "cut1.csv:4: expected the row of member 4"},
+      {p("serial.csv"), "serial.csv:1: not a part file of lgi sweep --shard"},
+      {p("a0.csv") + p("nothere.csv"), "nothere.csv: cannot read the part file"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.parts);
+    const CommandResult r = lgi("merge " + c.parts + "-o " + (dir_ / "merged.csv").string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "merged.csv"));
+  }
+  ASSERT_EQ(lgi("merge " + p("a1.csv") + p("a0.csv") + p("a2.csv") + "-o " + (dir_ / "merged.csv").string()).status, 0);
+  EXPECT_EQ(read("merged.csv"), read("serial.csv"));
+}
+
+#ifdef LGI_SWEEP_MPI_EXE
+// lgi_sweep_mpi under mpirun with 1, 2 and 3 ranks on this machine (--oversubscribe: more ranks than cores):
+// the serial run's bytes; a bad sweep file: exit 1, one message, no output file.
+TEST_F(CliSweep, MpiRanksWriteTheSerialBytes) {
+  write("grid.json", heavy_top_sweep(R"({"grid": {"/initial/omega/0": {"from": -1, "to": 1, "count": 10},
+                                                  "/problem/b": [0.5, 1, 2]}})"));
+  ASSERT_EQ(sweep("grid.json", "serial.csv").status, 0);
+  // Open MPI refuses to run as root without these (CI containers run as root).
+  const std::string mpirun = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np ";
+  for (const std::string np : {"1", "2", "3"}) {
+    const std::string out = (dir_ / ("mpi" + np + ".csv")).string();
+    const std::string cmd = mpirun + np + " " + LGI_SWEEP_MPI_EXE + " " + (dir_ / "grid.json").string() + " -o " + out +
+                            " -q > " + (dir_ / "mpi.out").string() + " 2>&1";
+    const int raw = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << np << " ranks: " << slurp(dir_ / "mpi.out");
+    EXPECT_EQ(read("mpi" + np + ".csv"), read("serial.csv")) << np << " ranks";
+  }
+  write("bad.json", heavy_top_sweep(R"({"grid": {"/initial/omegaa/0": [1, 2]}})"));
+  const std::string cmd = mpirun + "2 " + LGI_SWEEP_MPI_EXE + " " + (dir_ / "bad.json").string() + " -o " +
+                          (dir_ / "bad.csv").string() + " > " + (dir_ / "mpi.out").string() + " 2>&1";
+  const int raw = std::system(cmd.c_str());
+  EXPECT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 1);
+  const std::string said = slurp(dir_ / "mpi.out");
+  const auto first = said.find("\"/initial/omegaa/0\" is not in the scene");
+  EXPECT_NE(first, std::string::npos) << said;
+  EXPECT_EQ(said.find("lgi: error:", said.find("lgi: error:") + 1), std::string::npos) << said;  // once, not per rank
+  EXPECT_FALSE(fs::exists(dir_ / "bad.csv"));
+}
+#endif
+
+}  // namespace
