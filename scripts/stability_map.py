@@ -276,7 +276,8 @@ def measure(regime, method, x, rc, err, text):
         low = err.lower()
         if "converge" in low:
             status = "not_converged"
-        elif "non-finite" in low or "non_finite" in low:
+        elif "non-finite" in low or "non_finite" in low or "not finite" in low:
+            # "not finite": rows dropped because energy or an invariant overflowed (the runner exits 2)
             status = "non_finite"
         else:
             status = "failed_other"
