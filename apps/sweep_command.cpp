@@ -308,6 +308,16 @@ std::string status_token(StepStatus s) {
   return "step_failed";
 }
 
+// The atomic output file, or nullptr after saying on stderr why it cannot be created (exit_io_error).
+std::unique_ptr<AtomicOutput> open_output(const std::string& path) {
+  try {
+    return std::make_unique<AtomicOutput>(path);
+  } catch (const std::exception& e) {
+    fail(exit_io_error, e.what());
+    return nullptr;
+  }
+}
+
 enum class Outcome { completed, failed, stopped };
 
 struct MemberResult {
@@ -417,12 +427,8 @@ int sweep_command(const SweepCommandOptions& options) {
   unsigned threads = options.threads > 0 ? static_cast<unsigned>(options.threads) : std::thread::hardware_concurrency();
   threads = static_cast<unsigned>(std::clamp<std::int64_t>(std::min<std::int64_t>(threads, count), 1, 4096));
 
-  std::unique_ptr<AtomicOutput> out;
-  try {
-    out = std::make_unique<AtomicOutput>(options.output);
-  } catch (const std::exception& e) {
-    return fail(exit_io_error, e.what());
-  }
+  const std::unique_ptr<AtomicOutput> out = open_output(options.output);
+  if (!out) return exit_io_error;
   std::FILE* f = out->file();
   std::string head;
   if (sharded) head = shard_line(shard, shards, s.members, s.hash) + "\n";
@@ -547,12 +553,8 @@ int merge_command(const MergeCommandOptions& options) {
   }
   std::sort(parts.begin(), parts.end(), [](const Part& a, const Part& b) { return a.i < b.i; });
 
-  std::unique_ptr<AtomicOutput> out;
-  try {
-    out = std::make_unique<AtomicOutput>(options.output);
-  } catch (const std::exception& e) {
-    return fail(exit_io_error, e.what());
-  }
+  const std::unique_ptr<AtomicOutput> out = open_output(options.output);
+  if (!out) return exit_io_error;
   std::FILE* f = out->file();
   bool write_failed = std::fputs((parts.front().header + "\n").c_str(), f) < 0;
   std::string row;
