@@ -26,6 +26,7 @@
 // Bodies are independent, so results do not depend on the number of threads.
 #pragma once
 
+#include "driver.hpp"
 #include "integrator.hpp"
 #include "state.hpp"
 
@@ -125,14 +126,12 @@ void integrate_batch_each(const MakeStepper& make_stepper, BodyBatch& batch, dou
     for (std::size_t i = begin; i < end; ++i) {
       S stepper = make_stepper(i);
       typename S::Internal y = stepper.to_internal(batch.state(i), t0);
-      StepStatus status = StepStatus::ok;
+      IntegrationSummary summary;  // the drivers' own step loop: t_n = t0 + n·h, stops at a failed step
       std::int64_t n = 0;
-      for (; n < n_steps; ++n) {
-        status = stepper.step(y, t0 + static_cast<double>(n) * h, h);
-        if (status != StepStatus::ok) break;
-      }
+      NoMonitor monitor;
+      detail::advance(stepper, y, t0, h, n, n_steps, summary, monitor);
       batch.set_state(i, stepper.to_state(y));
-      batch.status[i] = status;
+      batch.status[i] = summary.step_status;
       batch.steps[i] = n;
     }
   });
