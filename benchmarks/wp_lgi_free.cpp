@@ -37,6 +37,9 @@ std::vector<Method> lgi_methods_free_body(const Case& c) {
       lgi_method<lgi::Cf4<P>>(p, true),
       lgi_method<lgi::RkmkDp5<P>>(p, true, true),
       lgi_method<lgi::RkmkDp8<P>>(p, true, true),
+      lgi_method<lgi::Rkmk4Cayley<P>>(p, true),
+      lgi_method<lgi::RkmkDp5Cayley<P>>(p, true, true),
+      lgi_method<lgi::RkmkDp8Cayley<P>>(p, true, true),
   };
 }
 

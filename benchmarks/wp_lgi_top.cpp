@@ -37,6 +37,9 @@ std::vector<Method> lgi_methods_top(const Case& c) {
       lgi_method<lgi::Cf4<P>>(p, false),
       lgi_method<lgi::RkmkDp5<P>>(p, false, true),
       lgi_method<lgi::RkmkDp8<P>>(p, false, true),
+      lgi_method<lgi::Rkmk4Cayley<P>>(p, false),
+      lgi_method<lgi::RkmkDp5Cayley<P>>(p, false, true),
+      lgi_method<lgi::RkmkDp8Cayley<P>>(p, false, true),
   };
   if (c.kind == Kind::lagrange_top)
     m.push_back(lgi_method<lgi::LagrangeSplit<lgi::LagrangeTop<double>>>(c.lagrange_top, false));

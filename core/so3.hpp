@@ -249,6 +249,22 @@ Vec3<T> cayley_inverse(const Mat3<T>& R) {
   return (T(4) / (T(1) + R.trace())) * vee(R);  // 2 vee(R − Rᵀ)/(1 + tr R)
 }
 
+// cay(w) − I, for updates R + R·(cay(w) − I) (see the header on the rounding of increments).
+template <class T>
+Mat3<T> cayley_increment(const Vec3<T>& w) {
+  const T A = T(4) / (T(4) + w.squaredNorm());
+  return rodrigues_increment(w, A, T(0.5) * A);
+}
+
+// The right-trivialised inverse differential of the Cayley map: with R(t) = R₀ cay(u(t)) and the body
+// velocity Ω (R' = R hat(Ω)),  u' = dcay⁻¹_u(Ω) = Ω + ½ u × Ω + ¼ (u·Ω) u  — exact and polynomial, where the
+// exponential's J_r⁻¹ is a series (HLW §IV.8.3, dcay⁻¹_C(H) = (I − C/2) H (I + C/2), in vector form;
+// tests/test_so3.cpp differentiates cayley_inverse to check it).
+template <class T>
+Vec3<T> cayley_right_jacobian_inverse(const Vec3<T>& u, const Vec3<T>& v) {
+  return v + T(0.5) * u.cross(v) + (T(0.25) * u.dot(v)) * u;
+}
+
 // ‖RᵀR − I‖_F: distance from orthogonality. A diagnostic: with Jets its derivative at an exactly
 // orthogonal R is NaN (the Frobenius norm is not differentiable at 0).
 template <class T>

@@ -40,9 +40,28 @@
 //            asked for output. Munthe-Kaas, BIT 38 (1998) 92 (the continuous RKMK idea); Engø, BIT 40
 //            (2000) 41 ("Numerical analysis of Lie group methods", variable steps and interpolation).
 //
-// Order: that of the tableau. R stays on SO(3) to round-off (products of exponentials). Not symplectic,
-// not symmetric; energy and momentum drift like those of the underlying Runge–Kutta method (the
-// projection of integrators/projection.hpp restores them).
+// Cayley coordinates (LieChart::cayley; methods rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley). RKMK works
+// with any coordinate map ψ: so(3) → SO(3) with ψ(0) = I, ψ'(0) = id (Iserles, Munthe-Kaas, Nørsett, Zanna,
+// Acta Numerica 9 (2000) 215, the section "Alternative coordinates"; Munthe-Kaas, Appl. Numer. Math. 29
+// (1999) 115): the step applies the tableau to u' = dψ_u⁻¹(Ω). With the Cayley map cay(u) = (I − ½û)⁻¹(I + ½û)
+// (core/so3.hpp) the inverse differential is exact and polynomial,
+//
+//   u' = dcay_u⁻¹ Ω = Ω + ½ u × Ω + ¼ (u·Ω) u        (HLW §IV.8.3, right-trivialised),
+//
+// so nothing is truncated and the order is the tableau's for any tableau; the stage attitudes are rational
+// in u — Γ_i = cay(u_i)ᵀ Γ_n = Γ_n − A u_i × Γ_n + ½A ((u_i·Γ_n) u_i − |u_i|² Γ_n), A = 4/(4 + |u_i|²) — and so
+// is the update R_{n+1} = R_n cay(h Σ b_i U_i): no sin, cos or square root anywhere in the step, where the
+// exponential chart calls libm's sin at every stage with a torque once θ² = |u_i|² ≥ 1e-2. The price is in
+// the error constants: at equal fixed steps DOP853 in Cayley coordinates is 7× less accurate than in the
+// exponential chart on the Hairer–Vilmart heavy top and up to 100× on the free body (T = 10, h = 0.1 … 0.5;
+// the DOP853 quaternion-embedding baseline is as accurate as the exponential chart there), so the adaptive
+// Cayley pair takes ≈ 20 % more steps for an error; it is cheaper per step (callgrind, HV heavy top,
+// h = 0.01: rkmk_dp8 4632 → rkmk_dp8_cayley 3016 instructions, rkmk4 962 → 878). Dense output and error
+// estimates are those above with cay in place of exp.
+//
+// Order: that of the tableau. R stays on SO(3) to round-off (products of exponentials or Cayley
+// rotations). Not symplectic, not symmetric; energy and momentum drift like those of the underlying
+// Runge–Kutta method (the projection of integrators/projection.hpp restores them).
 #pragma once
 
 #include "../core/inertia.hpp"
@@ -55,22 +74,31 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <string_view>
 #include <utility>
 
 namespace lgi {
 
+// The coordinates of the RKMK step: R = R_n exp(u) (the exponential chart, canonical coordinates of the first
+// kind) or R = R_n cay(u) (the Cayley map).
+enum class LieChart : std::uint8_t { exp, cayley };
+
 // SeriesDegree: the last ad-power kept in the J_r⁻¹ series (−1: the default, the least that keeps the
 // tableau's order; other values only to measure that the truncation matters, tests/test_rkmk_family.cpp).
-template <const auto& Tableau, RigidBodyProblem P, int SeriesDegree = -1>
+// Unused by the Cayley chart, whose dcay⁻¹ is exact.
+template <const auto& Tableau, RigidBodyProblem P, int SeriesDegree = -1, LieChart Chart = LieChart::exp>
 class Rkmk {
  public:
   using Problem = P;
   using Scalar = typename P::Scalar;
   using Internal = State<Scalar>;
+  using Vec6 = Eigen::Matrix<Scalar, 6, 1>;
 
   // An embedded pair: error estimate, dense output, adaptive steps.
   static constexpr bool embedded = requires { Tableau.e; Tableau.dense; };
+  static constexpr LieChart chart = Chart;
 
  private:
   // K = p − 2, lowered to the last non-zero term: the Bernoulli numbers B_k vanish for odd k ≥ 3, so K = 3 is
@@ -103,18 +131,43 @@ class Rkmk {
   }();
   enum class Weights { b, e, e3 };
 
+  // Scene name and title: the tableau's, with "_cayley" and " in Cayley coordinates" for the Cayley chart.
+  template <std::size_t N>
+  struct Text {
+    std::array<char, N> chars{};
+    constexpr std::string_view view() const { return {chars.data(), N}; }
+  };
+  template <std::size_t N>
+  static constexpr Text<N> join(std::string_view a, std::string_view b) {
+    Text<N> t;
+    std::size_t k = 0;
+    for (const char ch : a) t.chars[k++] = ch;
+    for (const char ch : b) t.chars[k++] = ch;
+    return t;
+  }
+  static constexpr std::string_view cayley_suffix = "_cayley", cayley_title_suffix = " in Cayley coordinates";
+  static constexpr auto cayley_name = join<Tableau.name.size() + cayley_suffix.size()>(Tableau.name, cayley_suffix);
+  static constexpr auto cayley_title =
+      join<Tableau.title.size() + cayley_title_suffix.size()>(Tableau.title, cayley_title_suffix);
+  static constexpr std::string_view cayley_reference_suffix =
+      "; Cayley coordinates: Iserles, Munthe-Kaas, Norsett, Zanna, Acta Numerica 9 (2000) 215 (Alternative "
+      "coordinates); Hairer-Lubich-Wanner GNI, sec. IV.8.3";
+  static constexpr auto cayley_reference =
+      join<Tableau.reference.size() + cayley_reference_suffix.size()>(Tableau.reference, cayley_reference_suffix);
+  static constexpr bool cayley = Chart == LieChart::cayley;
+
  public:
 
   static constexpr MethodTraits traits{
-      .name = Tableau.name,
-      .title = Tableau.title,
+      .name = cayley ? cayley_name.view() : Tableau.name,
+      .title = cayley ? cayley_title.view() : Tableau.title,
       .order = Tableau.order,
       .symplectic = false,
       .symmetric = false,
       .explicit_method = true,
       .exact_on_group = true,
       .preserves_momentum = false,
-      .reference = Tableau.reference,
+      .reference = cayley ? cayley_reference.view() : Tableau.reference,
       .options = embedded ? std::array<std::string_view, 6>{"rtol", "atol", "projection"}
                           : std::array<std::string_view, 6>{"projection"},
   };
@@ -128,16 +181,16 @@ class Rkmk {
   State<Scalar> to_state(const Internal& y) const { return y; }
 
   LGI_FLATTEN StepStatus step(Internal& x, const Scalar& t, const Scalar& h) {
-    std::array<Vec3<Scalar>, Tableau.stages> U, V;
+    std::array<Vec6, Tableau.stages> K;
     Vec3<Scalar> Gamma;  // Rᵀa at the start of the step (reduced-attitude problems)
     if constexpr (reduced) Gamma = x.R.transpose() * problem_.reduced_axis();
     [&]<int... I>(std::integer_sequence<int, I...>) {
-      (stage<I>(x, Gamma, t, h, U, V), ...);
+      (stage<I>(x, Gamma, t, h, K), ...);
     }(std::make_integer_sequence<int, update_stages>{});
-    Vec3<Scalar> u, dOmega;
-    weighted_sums<Weights::b, update_stages>(U, V, u, dOmega);
+    const Vec6 sum = weighted_sum<Weights::b, update_stages>(K);
+    const Vec3<Scalar> u = sum.template head<3>(), dOmega = sum.template tail<3>();
     // R exp(hu) as R + R (exp(hu) − I): see core/so3.hpp on the rounding of the increment.
-    const Mat3<Scalar> R1 = x.R + x.R * so3::exp_increment(Vec3<Scalar>(h * u));
+    const Mat3<Scalar> R1 = x.R + x.R * increment(Vec3<Scalar>(h * u));
     return commit(x, R1, Vec3<Scalar>(x.Omega + h * dOmega));
   }
 
@@ -153,7 +206,7 @@ class Rkmk {
     State<Scalar> x;
     Scalar t, h;
     Vec3<Scalar> Gamma;
-    std::array<Vec3<Scalar>, dense_stages> U, V;
+    std::array<Vec6, dense_stages> K;  // (U_i, V_i)
     bool extended = false;  // the dense-only stages are computed
   };
 
@@ -170,12 +223,12 @@ class Rkmk {
     d.extended = false;
     if constexpr (reduced) d.Gamma = x.R.transpose() * problem_.reduced_axis();
     [&]<int... I>(std::integer_sequence<int, I...>) {
-      (stage<I>(x, d.Gamma, t, h, d.U, d.V), ...);
+      (stage<I>(x, d.Gamma, t, h, d.K), ...);
     }(std::make_integer_sequence<int, Tableau.stages>{});
-    Vec3<Scalar> u, dOmega, du, dW;
-    weighted_sums<Weights::b, Tableau.stages>(d.U, d.V, u, dOmega);
-    weighted_sums<Weights::e, Tableau.stages>(d.U, d.V, du, dW);
-    const Mat3<Scalar> R1 = x.R + x.R * so3::exp_increment(Vec3<Scalar>(h * u));
+    const Vec6 sum = weighted_sum<Weights::b, Tableau.stages>(d.K), err = weighted_sum<Weights::e, Tableau.stages>(d.K);
+    const Vec3<Scalar> u = sum.template head<3>(), dOmega = sum.template tail<3>(), du = err.template head<3>(),
+                       dW = err.template tail<3>();
+    const Mat3<Scalar> R1 = x.R + x.R * increment(Vec3<Scalar>(h * u));
     const Vec3<Scalar> Omega1 = x.Omega + h * dOmega;
     if (!all_finite(R1) || !all_finite(Omega1)) {
       error = std::numeric_limits<double>::infinity();
@@ -196,8 +249,8 @@ class Rkmk {
     };
     const double s5 = scaled(du, dW);
     if constexpr (has_second_estimate) {
-      Vec3<Scalar> du3, dW3;
-      weighted_sums<Weights::e3, Tableau.stages>(d.U, d.V, du3, dW3);
+      const Vec6 err3 = weighted_sum<Weights::e3, Tableau.stages>(d.K);
+      const Vec3<Scalar> du3 = err3.template head<3>(), dW3 = err3.template tail<3>();
       const double deno = s5 + 0.01 * scaled(du3, dW3);
       error = deno > 0 ? s5 / std::sqrt(6.0 * deno) : 0.0;
     } else {
@@ -216,7 +269,7 @@ class Rkmk {
   {
     if (!d.extended) {
       [&]<int... I>(std::integer_sequence<int, I...>) {
-        (stage<Tableau.stages + I>(d.x, d.Gamma, d.t, d.h, d.U, d.V), ...);
+        (stage<Tableau.stages + I>(d.x, d.Gamma, d.t, d.h, d.K), ...);
       }(std::make_integer_sequence<int, dense_stages - Tableau.stages>{});
       d.extended = true;
     }
@@ -226,13 +279,11 @@ class Rkmk {
       for (int m = 6; m >= 0; --m) p = p * theta + Scalar(Tableau.dense[i][m]);
       w[i] = p * theta;
     }
-    Vec3<Scalar> u = Vec3<Scalar>::Zero(), dOmega = Vec3<Scalar>::Zero();
-    for (int i = 0; i < dense_stages; ++i) {
-      u += w[i] * d.U[i];
-      dOmega += w[i] * d.V[i];
-    }
+    Vec6 sum = Vec6::Zero();
+    for (int i = 0; i < dense_stages; ++i) sum += w[i] * d.K[i];
+    const Vec3<Scalar> u = sum.template head<3>(), dOmega = sum.template tail<3>();
     Internal y;
-    y.R = d.x.R + d.x.R * so3::exp_increment(Vec3<Scalar>(d.h * u));
+    y.R = d.x.R + d.x.R * increment(Vec3<Scalar>(d.h * u));
     y.Omega = d.x.Omega + d.h * dOmega;
     return y;
   }
@@ -242,6 +293,14 @@ class Rkmk {
   const P& problem() const { return problem_; }
 
  private:
+  // ψ(w) − I of the chart ψ = exp or cay.
+  static Mat3<Scalar> increment(const Vec3<Scalar>& w) {
+    if constexpr (cayley)
+      return so3::cayley_increment(w);
+    else
+      return so3::exp_increment(w);
+  }
+
   template <Weights W, int I>
   static constexpr double weight() {
     if constexpr (W == Weights::b)
@@ -252,20 +311,16 @@ class Rkmk {
       return Tableau.e3[I];
   }
 
-  // Σ_i w_i U_i and Σ_i w_i V_i over the first N stages, zero weights skipped at compile time.
-  template <Weights W, int N, std::size_t K>
-  static void weighted_sums(const std::array<Vec3<Scalar>, K>& U, const std::array<Vec3<Scalar>, K>& V,
-                            Vec3<Scalar>& u, Vec3<Scalar>& v) {
-    u.setZero();
-    v.setZero();
+  // Σ_i w_i (U_i, V_i) over the first N stages, zero weights skipped at compile time.
+  template <Weights W, int N, std::size_t M>
+  static Vec6 weighted_sum(const std::array<Vec6, M>& K) {
+    Vec6 s = Vec6::Zero();
     [&]<int... I>(std::integer_sequence<int, I...>) {
       ([&] {
-        if constexpr (weight<W, I>() != 0) {
-          u += Scalar(weight<W, I>()) * U[I];
-          v += Scalar(weight<W, I>()) * V[I];
-        }
+        if constexpr (weight<W, I>() != 0) s += Scalar(weight<W, I>()) * K[I];
       }(), ...);
     }(std::make_integer_sequence<int, N>{});
+    return s;
   }
 
   // Ω' = J⁻¹((JΩ) × Ω + M)
@@ -276,38 +331,55 @@ class Rkmk {
     return J_.solve(Vec3<Scalar>(J_.apply(Omega).cross(Omega)));
   }
 
+  // Stage I: K_I = (U_I, V_I). The six components share the tableau's coefficients and are combined as one
+  // 6-vector (three SSE2 packets instead of two 3-vectors' two packets and two scalars each; the same
+  // operations element by element, so the same bits).
   template <int I, std::size_t N>
   void stage(const State<Scalar>& x, const Vec3<Scalar>& Gamma, const Scalar& t, const Scalar& h,
-             std::array<Vec3<Scalar>, N>& U, std::array<Vec3<Scalar>, N>& V) const {
+             std::array<Vec6, N>& K) const {
     if constexpr (I == 0) {
-      U[0] = x.Omega;
+      K[0].template head<3>() = x.Omega;
       if constexpr (reduced)
-        V[0] = acceleration(x.Omega, problem_.reduced_torque(Gamma));
+        K[0].template tail<3>() = acceleration(x.Omega, problem_.reduced_torque(Gamma));
       else if constexpr (P::has_torque)
-        V[0] = acceleration(x.Omega, body_torque(problem_, t, x.R));
+        K[0].template tail<3>() = acceleration(x.Omega, body_torque(problem_, t, x.R));
       else
-        V[0] = acceleration(x.Omega);
+        K[0].template tail<3>() = acceleration(x.Omega);
     } else {
-      Vec3<Scalar> u = Vec3<Scalar>::Zero(), dW = Vec3<Scalar>::Zero();
+      Vec6 sum = Vec6::Zero();
       [&]<int... J>(std::integer_sequence<int, J...>) {
         ([&] {
-          if constexpr (Tableau.a[I][J] != 0) {
-            u += Scalar(Tableau.a[I][J]) * U[J];
-            dW += Scalar(Tableau.a[I][J]) * V[J];
-          }
+          if constexpr (Tableau.a[I][J] != 0) sum += Scalar(Tableau.a[I][J]) * K[J];
         }(), ...);
       }(std::make_integer_sequence<int, I>{});
-      u *= h;
-      const Vec3<Scalar> W = x.Omega + h * dW;
-      U[I] = so3::right_jacobian_inverse_series<series_degree>(u, W);
+      const Vec3<Scalar> u = h * sum.template head<3>();
+      const Vec3<Scalar> W = x.Omega + h * sum.template tail<3>();
+      if constexpr (cayley) {
+        K[I].template head<3>() = so3::cayley_right_jacobian_inverse(u, W);
+        if constexpr (reduced) {
+          // Γ_i = cay(u)ᵀ Γ = Γ − A u × Γ + ½A u × (u × Γ), with u × (u × Γ) = (u·Γ) u − |u|² Γ
+          const Scalar u2 = u.squaredNorm();
+          const Scalar A = Scalar(4) / (Scalar(4) + u2);
+          const Scalar half_A = Scalar(0.5) * A;
+          const Vec3<Scalar> Gamma_i = Gamma - A * u.cross(Gamma) + half_A * (u.dot(Gamma) * u - u2 * Gamma);
+          K[I].template tail<3>() = acceleration(W, problem_.reduced_torque(Gamma_i));
+        } else if constexpr (P::has_torque) {
+          const Mat3<Scalar> R = x.R * so3::cayley(u);
+          K[I].template tail<3>() = acceleration(W, body_torque(problem_, t + Scalar(Tableau.c[I]) * h, R));
+        } else {
+          K[I].template tail<3>() = acceleration(W);
+        }
+        return;
+      }
+      K[I].template head<3>() = so3::right_jacobian_inverse_series<series_degree>(u, W);
       if constexpr (reduced) {
         const so3::Coefficients<Scalar> k = so3::exp_coefficients(u);  // Γ_i = exp(u)ᵀ Γ = exp(−u) Γ
-        V[I] = acceleration(W, problem_.reduced_torque(so3::rotate(u, Scalar(-k.A), k.B, Gamma)));
+        K[I].template tail<3>() = acceleration(W, problem_.reduced_torque(so3::rotate(u, Scalar(-k.A), k.B, Gamma)));
       } else if constexpr (P::has_torque) {
         const Mat3<Scalar> R = x.R * so3::exp(u);
-        V[I] = acceleration(W, body_torque(problem_, t + Scalar(Tableau.c[I]) * h, R));
+        K[I].template tail<3>() = acceleration(W, body_torque(problem_, t + Scalar(Tableau.c[I]) * h, R));
       } else {
-        V[I] = acceleration(W);
+        K[I].template tail<3>() = acceleration(W);
       }
     }
   }
@@ -331,5 +403,11 @@ template <RigidBodyProblem P>
 using RkmkDp5 = Rkmk<tableaus::dormand_prince5, P>;
 template <RigidBodyProblem P>
 using RkmkDp8 = Rkmk<tableaus::dop853, P>;
+template <RigidBodyProblem P>
+using Rkmk4Cayley = Rkmk<tableaus::classical_rk4, P, -1, LieChart::cayley>;
+template <RigidBodyProblem P>
+using RkmkDp5Cayley = Rkmk<tableaus::dormand_prince5, P, -1, LieChart::cayley>;
+template <RigidBodyProblem P>
+using RkmkDp8Cayley = Rkmk<tableaus::dop853, P, -1, LieChart::cayley>;
 
 }  // namespace lgi
