@@ -109,9 +109,11 @@ constexpr std::size_t internal_size() {
     return internal_size<decltype(declval<U&>().y)>() + 2;
   } else if constexpr (requires(U& u) { u.w; u.v; }) {  // Quaternion
     return 1 + internal_size<decltype(declval<U&>().v)>();
+  } else if constexpr (requires(U& u) { u.q; u.Pi; u.M; u.psi; }) {  // lagrange_split: turning frame and spin angle
+    return internal_size<decltype(declval<U&>().q)>() + 7;
   } else if constexpr (requires(U& u) { u.q; u.Pi; u.M; }) {  // Splitting: quaternion, momentum, torque
     return internal_size<decltype(declval<U&>().q)>() + 6;
-  } else if constexpr (requires(U& u) { u.R; u.Pi; u.M; }) {  // LGVI, lagrange_split, split_exact
+  } else if constexpr (requires(U& u) { u.R; u.Pi; u.M; }) {  // LGVI, split_exact
     return 15;
   } else if constexpr (requires(U& u) { u.q; u.Omega; }) {  // QuatState
     return internal_size<decltype(declval<U&>().q)>() + 3;
@@ -140,6 +142,11 @@ void for_each_number(Y& y, F&& f) {
   } else if constexpr (requires(U& u) { u.w; u.v; }) {
     f(y.w);
     for_each_number(y.v, f);
+  } else if constexpr (requires(U& u) { u.q; u.Pi; u.M; u.psi; }) {
+    for_each_number(y.q, f);
+    for_each_number(y.Pi, f);
+    for_each_number(y.M, f);
+    f(y.psi);
   } else if constexpr (requires(U& u) { u.q; u.Pi; u.M; }) {
     for_each_number(y.q, f);
     for_each_number(y.Pi, f);
