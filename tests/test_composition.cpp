@@ -13,6 +13,7 @@
 #include <lgi/integrators/composition.hpp>
 #include <lgi/problems/free_body.hpp>
 #include <lgi/problems/heavy_top.hpp>
+#include <lgi/problems/lagrange_top.hpp>
 
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
@@ -428,6 +429,99 @@ TEST(CompositionLongRun, NegativeControlCf4Drifts) {
 // sub-step (the LGVI's Newton solve converges the derivative part too), against central differences.
 TYPED_TEST(CompositionTest, JetDerivativesMatchFiniteDifferences) {
   test::expect_heavy_top_jets_match<TypeParam::template type>(0.04, 1.0, 1e-13);
+}
+
+// ---- compositions of the Lagrange top's splitting (lagrange_split) -------------------------------------
+
+static_assert(Stepper<LagrangeSplitKahanLi8<LagrangeTop<double>>>);
+static_assert(!Stepper<LagrangeSplitKahanLi8<HeavyTop<double>>> && Stepper<LgviKahanLi8<HeavyTop<double>>>,
+              "compositions of lagrange_split are steppers only where lagrange_split is one");
+
+// A Lagrange top with a tilted k and a tilted start (test_problem_library.cpp's), and the fast top.
+LagrangeTop<double> tilted_lagrange_top() {
+  return LagrangeTop<double>::make(1.3, 0.7, 2.1, Vec3<double>(0.3, -0.5, 0.81).normalized());
+}
+State<double> lagrange_state() { return {so3::exp(Vec3<double>(0.5, -0.3, 0.2)), Vec3<double>(0.6, -0.8, 3.0)}; }
+
+TEST(LagrangeSplitCompositions, OrdersInLongDouble) {
+  const LagrangeTop<double> top = tilted_lagrange_top();
+  const State<double> x0 = lagrange_state();
+  EXPECT_NEAR(observed_order_ld<LagrangeSplitYoshida4>("tilted lagrange top", top, x0, {40, 56, 80, 112, 160}), 4.0, 0.2);
+  EXPECT_NEAR(observed_order_ld<LagrangeSplitKahanLi6>("tilted lagrange top", top, x0, {16, 20, 24, 32, 40, 48}), 6.0,
+              0.2);
+  EXPECT_NEAR(observed_order_ld<LagrangeSplitKahanLi8>("tilted lagrange top", top, x0, {10, 12, 16, 20, 24, 32}), 8.0,
+              0.2);
+  // Order 10 on a faster start (larger errors): the window between the pre-asymptotic steps (local slopes 12,
+  // 15, 8.5 for n = 5 … 8) and the reference's floor (1e3× its error, n ≈ 12) is n = 8 … 11, local slopes 10.1,
+  // 10.0, 10.0 (a self-convergence run in long double continues 10.1, 10.4 to n = 14 before its own floor).
+  const State<double> fast{x0.R, Vec3<double>(1.5, -2.0, 4.0)};
+  EXPECT_NEAR(observed_order_ld<LagrangeSplitSofroniouSpaletta10>("faster lagrange top", top, fast, {8, 9, 10, 11}),
+              10.0, 0.2);
+}
+
+// The point of these methods: every sub-step turns the body about its symmetry axis exactly, so the step is
+// set by the slow motions. On the fast Lagrange top (Ω3 = 150 rad/s, T = 2) Kahan–Li 8 at h = 0.05 — 7.5 rad
+// of spin per step, where an explicit Runge–Kutta method is unstable — meets 1e-8 against a long-double
+// reference; the LGVI's composition with the same coefficients cannot take that step at all.
+TEST(LagrangeSplitCompositions, FastTopAtStepsLongerThanTheSpinPeriod) {
+  const LagrangeTop<double> top = LagrangeTop<double>::fast_top();
+  const State<double> x0 = LagrangeTop<double>::fast_top_state();
+  const LagrangeTop<L> top_ld = top.cast<L>();
+  const State<L> ref = rk4_richardson_ld(top_ld, x0.cast<L>(), L(2), 160000);
+  const double ref_error = distance_ld(ref, rk4_richardson_ld(top_ld, x0.cast<L>(), L(2), 320000));
+  const auto error = [&](auto stepper, double h) {
+    State<double> x = x0;
+    EXPECT_EQ(integrate_to(stepper, x, 0.0, h, 2.0).status, RunStatus::completed);
+    return distance_ld(x.cast<L>(), ref);
+  };
+  const double e_split = error(LagrangeSplitKahanLi8<LagrangeTop<double>>(top), 0.05);
+  std::printf("fast Lagrange top, T = 2, h = 0.05: lagrange_split_kahan_li8 error %.2e (reference %.1e)\n", e_split,
+              ref_error);
+  EXPECT_LT(ref_error, 1e-12);
+  EXPECT_LT(e_split, 1e-8);
+  // the LGVI's composition with the same coefficients cannot take this step: its implicit equation has no
+  // solution once h|Ω| > 1 (lgvi.hpp)
+  LgviKahanLi8<LagrangeTop<double>> lgvi(top);
+  State<double> x = x0;
+  EXPECT_NE(integrate_to(lgvi, x, 0.0, 0.05, 2.0).status, RunStatus::completed);
+}
+
+// Symplectic and symmetric: step(−h) ∘ step(h) = id; over 10⁶ steps energy bounded, m·k to round-off and
+// m_ψ = I3 Ω3 bit for bit in the stepped state (no sub-step touches Π3).
+TEST(LagrangeSplitCompositions, SymmetricAndConservative) {
+  using S = LagrangeSplitKahanLi8<LagrangeTop<double>>;
+  const LagrangeTop<double> top = tilted_lagrange_top();
+  const State<double> x0 = lagrange_state();
+  S stepper(top);
+  auto y = stepper.to_internal(x0, 0.0);
+  ASSERT_EQ(stepper.step(y, 0.0, 0.1), StepStatus::ok);
+  ASSERT_EQ(stepper.step(y, 0.1, -0.1), StepStatus::ok);
+  const double back = test::state_distance(stepper.to_state(y), x0);
+  std::printf("lagrange_split_kahan_li8: |step(-h) o step(h) - id| = %.2e at h = 0.1\n", back);
+  EXPECT_LT(back, 1e-14);
+
+  const double E0 = energy(top, x0);
+  const auto inv0 = top.invariants(x0);
+  double max_dE = 0, max_dmk = 0;
+  std::vector<double> t, e;
+  State<double> x = x0;
+  const auto observe = [&](double tt, const State<double>& z) {
+    const double dE = std::abs(energy(top, z) - E0) / std::abs(E0);
+    max_dE = std::max(max_dE, dE);
+    max_dmk = std::max(max_dmk, std::abs(top.invariants(z)[0] - inv0[0]) / spatial_momentum(top.inertia, x0).norm());
+    if (tt > 0) t.push_back(tt), e.push_back(dE);
+  };
+  // h = 0.3 (h|Ω0| = 1.0): the energy error (≈ 1e-9) stands far above the round-off random walk
+  const auto summary = integrate_every(stepper, x, 0.0, 0.3, 3e5, 1000, observe);
+  ASSERT_EQ(summary.status, RunStatus::completed);
+  // drift: largest error in the last tenth against the first tenth of the run
+  double first = 0, last = 0;
+  for (std::size_t i = 0; i < e.size() / 10; ++i) first = std::max(first, e[i]), last = std::max(last, e[e.size() - 1 - i]);
+  std::printf("lagrange_split_kahan_li8, 1e6 steps h = 0.3: energy %.2e (first tenth %.2e, last %.2e), m.k %.2e, "
+              "m_psi %.17g -> %.17g\n", max_dE, first, last, max_dmk, inv0[1], top.invariants(x)[1]);
+  EXPECT_LT(last, 2 * first);
+  EXPECT_LT(max_dmk, 1e-12);
+  EXPECT_EQ(x.Omega.z() * top.inertia(2, 2), inv0[1]);
 }
 
 }  // namespace

@@ -226,13 +226,15 @@ std::vector<Case> cases() {
        "problem, initial, integrator, t_end, output, limits)"},
       {"method_with_escape_sequence", edit(h, "\"lgvi\"", "\"\\u001b[31mlgvi\""),
        "lgi: error: {file}: /integrator/method: unknown method \"\\u001b[31mlgvi\" (known: lgvi, rkmk4, "
-       "lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rk4_quat, rk4_quat_renorm, rk4_mat, "
+       "lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, "
+       "rk4_quat, rk4_quat_renorm, rk4_mat, "
        "rk4_mat_renorm, dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, split_axes, "
        "split_dmv, split_dmv4, split_dmv6, split_dmv8, split_dmv10, split_exact, cf4, cg3, lgvi_yoshida4, "
        "lgvi_suzuki4, lgvi_yoshida6, lgvi_kahan_li6, lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10, "
        "split_dmv_yoshida4, split_dmv_suzuki4, split_dmv_kahan_li6, split_dmv_kahan_li8, "
        "split_dmv_sofroniou_spaletta10, "
-       "lagrange_split)"},
+       "lagrange_split, lagrange_split_yoshida4, lagrange_split_kahan_li6, lagrange_split_kahan_li8, "
+       "lagrange_split_sofroniou_spaletta10)"},
       // ---- missing required keys ----
       {"missing_problem",
        edit(h, h.substr(h.find("  \"problem\""), h.find("  \"initial\"") - h.find("  \"problem\"")), ""),
@@ -358,20 +360,22 @@ std::vector<Case> cases() {
       // ---- method and problem ----
       {"unknown_method", edit(h, "\"lgvi\"", "\"rk45\""),
        "lgi: error: {file}: /integrator/method: unknown method \"rk45\" (known: lgvi, rkmk4, lie_euler, "
-       "rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rk4_quat, rk4_quat_renorm, rk4_mat, rk4_mat_renorm, "
+       "rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, rk4_quat, "
+       "rk4_quat_renorm, rk4_mat, rk4_mat_renorm, "
        "dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, split_axes, split_dmv, split_dmv4, "
        "split_dmv6, split_dmv8, split_dmv10, split_exact, cf4, cg3, lgvi_yoshida4, lgvi_suzuki4, lgvi_yoshida6, "
        "lgvi_kahan_li6, lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10, split_dmv_yoshida4, "
        "split_dmv_suzuki4, split_dmv_kahan_li6, split_dmv_kahan_li8, split_dmv_sofroniou_spaletta10, "
-       "lagrange_split)"},
+       "lagrange_split, lagrange_split_yoshida4, lagrange_split_kahan_li6, lagrange_split_kahan_li8, "
+       "lagrange_split_sofroniou_spaletta10)"},
       {"unknown_problem", edit(h, "\"heavy_top\"", "\"spinning_plate\""),
        "lgi: error: {file}: /problem/type: unknown problem type \"spinning_plate\" (known: free_body, "
        "heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, lagrange_top_euler_angles)"},
       {"method_not_for_problem", edit(h, "\"lgvi\"", "\"lagrange_split\""),
        "lgi: error: {file}: /integrator/method: method \"lagrange_split\" does not apply to problem "
        "heavy_top (methods that do: lgvi, rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, "
-       "rkmk_dp8, rk4_quat, rk4_quat_renorm, rk4_mat, rk4_mat_renorm, dop853_quat, dop853_quat_renorm, "
-       "dop853_mat, dop853_mat_renorm, split_axes, split_dmv, split_dmv4, split_dmv6, split_dmv8, "
+       "rkmk_dp8, rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, rk4_quat, rk4_quat_renorm, rk4_mat, "
+       "rk4_mat_renorm, dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, split_axes, split_dmv, split_dmv4, split_dmv6, split_dmv8, "
        "split_dmv10, split_exact, cf4, cg3, lgvi_yoshida4, lgvi_suzuki4, lgvi_yoshida6, lgvi_kahan_li6, "
        "lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10, split_dmv_yoshida4, split_dmv_suzuki4, "
        "split_dmv_kahan_li6, split_dmv_kahan_li8, split_dmv_sofroniou_spaletta10)"},
@@ -383,8 +387,8 @@ std::vector<Case> cases() {
        "dt, projection)"},
       {"rtol_on_fixed_step_method", edit(adaptive, "\"rkmk_dp5\"", "\"rkmk4\""),
        "lgi: error: {file}: /integrator/rtol: method rkmk4 has no embedded error estimate: adaptive "
-       "steps (rtol, atol) need one of rkmk_dp5, rkmk_dp8, dop853_quat, dop853_quat_renorm, dop853_mat, "
-       "dop853_mat_renorm"},
+       "steps (rtol, atol) need one of rkmk_dp5, rkmk_dp8, rkmk_dp5_cayley, rkmk_dp8_cayley, dop853_quat, "
+       "dop853_quat_renorm, dop853_mat, dop853_mat_renorm"},
       {"projection_on_symplectic", edit(h, "\"max_iterations\": 30", "\"max_iterations\": 30, \"projection\": true"),
        "lgi: error: {file}: /integrator/projection: method lgvi is symplectic (its energy error stays "
        "bounded): projection is for non-symplectic methods"},
