@@ -18,7 +18,8 @@
 //   - solver creation and reset (initial state, re-initialisation) are outside the timed region: a sample
 //     is [time of `inner` × (reset + run)] − [time of `inner` × reset], divided by `inner`, with `inner` chosen
 //     so that a batch lasts ≥ 2 ms, on the thread's CPU clock (CLOCK_THREAD_CPUTIME_ID);
-//   - a first pass discovers each method's sweep (fixed steps: N growing by 10^¼ from h|Ω0| = 1.5;
+//   - a first pass discovers each method's sweep (fixed steps: N growing by 10^¼ from h|Ω0| = 1.5, and
+//     shrinking from there while the error stays below 1e-5 when that first point already meets 1e-6;
 //     adaptive: tol = 10^−3, 10^−3.5, …) and stops at error ≤ 1e-13, a run longer than --max-run, or a
 //     round-off plateau; then --reps passes time every point, methods interleaved (the order rotates per
 //     pass); the reported time is the median of the passes;
@@ -28,7 +29,7 @@
 //     log-log interpolation between the two points that bracket ε (none when ε is not reached; the cheapest
 //     point's time when even it is below ε, flagged as an upper bound). Per case: the fastest lgi method,
 //     the fastest peer, their ratio lgi/peer (> 1: the peer wins).
-//   - long horizon (hv_free_body, hv_heavy_top; T = --long-t, default 1e4): lgi's symplectic methods at
+//   - long horizon (hv_free_body, hv_heavy_top; T = --long-t, default 1e4): lgi's symplectic and projected methods at
 //     fixed steps, and for each of them the peers tuned to its CPU time (their tolerance from probe runs over
 //     T/100, extrapolated linearly in T); relative energy error, momentum (m·k; free body: m), the
 //     Casimir |Π| (free body), ‖RᵀR − I‖ at 40 log-spaced times; drift exponents = least-squares slope of
@@ -400,6 +401,20 @@ MethodRun sweep(const Method& m, const Case& c, const Reference& ref, const Opti
     if (err <= 1e-13 || secs > o.max_run) break;
     if (worse >= 2 && best < 1e-8) break;  // round-off plateau
   }
+  // Fixed steps whose first point (h|Ω0| ≈ 1.5) already meets 1e-6 — methods that integrate a fast spin
+  // exactly, or high orders on slow bodies — continue towards coarser steps, so that every t(ε) is
+  // bracketed rather than bounded: n shrinks by 10^¼ until the error exceeds 1e-5, a run fails, or n = 1.
+  if (!m.adaptive && usable > 0 && run.points.front().ok && run.points.front().error < 1e-6) {
+    const double n0 = run.points.front().param;
+    for (int j = 1; j < 60; ++j) {
+      const double param = std::floor(n0 * std::pow(10.0, -0.25 * j));
+      if (param < 1 || param >= run.points.front().param) break;
+      Point p = first_run(m, c, t_eval, param, ref);
+      const bool stop = !p.ok || p.error > 1e-5;
+      run.points.insert(run.points.begin(), std::move(p));
+      if (stop) break;
+    }
+  }
   return run;
 }
 
@@ -481,6 +496,7 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
     m["order"] = r.method.order;
     m["adaptive"] = r.method.adaptive;
     m["symplectic"] = r.method.symplectic;
+    m["projected"] = r.method.projected;
     m["status"] = r.status;
     json pts = json::array();
     for (const Point& p : r.points) {
@@ -598,6 +614,7 @@ json long_run_json(const Case& c, const Method& m, double param, const Trial& t,
   j["method"] = m.name;
   j["library"] = m.library;
   j["symplectic"] = m.symplectic;
+  j["projected"] = m.projected;
   j[m.adaptive ? "tol" : "n_steps"] = param;
   j["steps"] = t.steps();
   j["seconds"] = seconds;
@@ -644,24 +661,27 @@ json long_horizon(const Case& c, const Options& o) {
 
   json runs = json::array();
   // lgi: second-order maps at h = 0.01, compositions at larger steps (about the same CPU time or a few
-  // times more), rkmk4 as the non-symplectic contrast. Each symplectic one sets a CPU budget the peers are
+  // times more), rkmk4 as the non-symplectic contrast, and two projected methods (energy and the momentum
+  // invariant restored after every step). Each symplectic or projected one sets a CPU budget the peers are
   // tuned to.
   const std::vector<std::pair<std::string, double>> lgi_list{
       {"split_dmv", 0.01},           {"lgvi", 0.01},
       {"split_dmv_kahan_li6", 0.05}, {"split_dmv_kahan_li8", 0.1},
-      {"split_dmv_sofroniou_spaletta10", 0.2}, {"rkmk4", 0.01}};
+      {"split_dmv_sofroniou_spaletta10", 0.2}, {"rkmk4", 0.01},
+      {"rkmk4_projected", 0.02},     {"rkmk_dp8_cayley_projected", 1e-12}};  // adaptive: the tolerance
   std::vector<std::pair<std::string, double>> budgets;  // (lgi method, CPU seconds)
   std::map<std::string, double> lgi_energy;
   for (const auto& [name, h] : lgi_list) {
     const Method* m = find(lgi_all, name);
     if (m == nullptr) continue;
     double secs = 0;
-    const double n = std::round(T / h);
+    const double n = m->adaptive ? h : std::round(T / h);  // adaptive: rtol = atol = the list's value
     const auto t = timed(*m, n, times, secs);
     json r = long_run_json(c, *m, n, *t, secs);
     lgi_energy[name] = r["max"]["energy"].get<double>();
     runs.push_back(r);
-    if (m->symplectic && name != "lgvi") budgets.emplace_back(name, secs);  // lgvi: the same map as split_dmv
+    if ((m->symplectic || m->projected) && name != "lgvi")  // lgvi: the same map as split_dmv
+      budgets.emplace_back(name, secs);
     std::fprintf(stderr, "  long %-32s %.3f s\n", name.c_str(), secs);
   }
   // Peers tuned to each budget: probe over T/100, pick the parameter whose extrapolated time matches.

@@ -91,6 +91,7 @@ struct Method {
   int order = 0;  // on this case's problem
   bool adaptive = false;
   bool symplectic = false;
+  bool projected = false;  // lgi: the invariant projection after every step (integrators/projection.hpp)
   std::function<std::unique_ptr<Trial>(const Case&, std::span<const double> times, double param)> make;
 };
 

@@ -8,9 +8,11 @@
 
 #include <lgi/core/driver.hpp>
 #include <lgi/integrators/adaptive.hpp>
+#include <lgi/integrators/projection.hpp>
 
 #include <cmath>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace wp {
@@ -74,11 +76,18 @@ class LgiAdaptive final : public Trial {
   std::int64_t steps_ = 0;
 };
 
-// A Method entry for stepper S on problem p (a copy is kept in the factory).
+template <class S>
+struct is_projected : std::false_type {};
+template <class S>
+struct is_projected<lgi::Projected<S>> : std::true_type {};
+
+// A Method entry for stepper S on problem p (a copy is kept in the factory). A projected stepper
+// (lgi::Projected<S>) is named after its method with "_projected".
 template <class S>
 Method lgi_method(const typename S::Problem& p, bool torque_free, bool adaptive = false) {
   Method m;
-  m.name = std::string(S::traits.name);
+  m.name = std::string(S::traits.name) + (is_projected<S>::value ? "_projected" : "");
+  m.projected = is_projected<S>::value;
   m.library = "lgi";
   m.description = std::string(S::traits.title);
   m.order = torque_free && S::traits.free_body_order > 0 ? S::traits.free_body_order : S::traits.order;

@@ -1,6 +1,7 @@
 // benchmarks/wp_lgi_top.cpp — lgi's methods on the cases with gravity (HeavyTop<double>; a lagrange_top
-// case runs them on the same body as a heavy top with z0 = e3, plus lagrange_split on the LagrangeTop).
-// The preprocessed DMV (split_dmv4 … 10) is order 2 with a torque and is run on torque-free cases only.
+// case runs them on the same body as a heavy top with z0 = e3, plus lagrange_split and its compositions on
+// the LagrangeTop). The preprocessed DMV (split_dmv4 … 10) is order 2 with a torque and is run on
+// torque-free cases only.
 #include "wp_lgi.hpp"
 
 #include <lgi/integrators/commutator_free.hpp>
@@ -40,9 +41,18 @@ std::vector<Method> lgi_methods_top(const Case& c) {
       lgi_method<lgi::Rkmk4Cayley<P>>(p, false),
       lgi_method<lgi::RkmkDp5Cayley<P>>(p, false, true),
       lgi_method<lgi::RkmkDp8Cayley<P>>(p, false, true),
+      lgi_method<lgi::Projected<lgi::Rkmk4<P>>>(p, false),
+      lgi_method<lgi::Projected<lgi::RkmkDp8Cayley<P>>>(p, false, true),
   };
   if (c.kind == Kind::lagrange_top)
-    m.push_back(lgi_method<lgi::LagrangeSplit<lgi::LagrangeTop<double>>>(c.lagrange_top, false));
+  {
+    using LT = lgi::LagrangeTop<double>;
+    m.push_back(lgi_method<lgi::LagrangeSplit<LT>>(c.lagrange_top, false));
+    m.push_back(lgi_method<lgi::LagrangeSplitYoshida4<LT>>(c.lagrange_top, false));
+    m.push_back(lgi_method<lgi::LagrangeSplitKahanLi6<LT>>(c.lagrange_top, false));
+    m.push_back(lgi_method<lgi::LagrangeSplitKahanLi8<LT>>(c.lagrange_top, false));
+    m.push_back(lgi_method<lgi::LagrangeSplitSofroniouSpaletta10<LT>>(c.lagrange_top, false));
+  }
   return m;
 }
 
