@@ -72,6 +72,10 @@ struct MergeCommandOptions {
 };
 
 int sweep_command(const SweepCommandOptions& options);
+
+// The crossings file written beside OUTPUT when a sweep records crossings: OUTPUT with its ".csv" replaced by
+// ".crossings.csv" (OUTPUT + ".crossings.csv" when it does not end in ".csv"). Part files have theirs too.
+std::string crossings_path(const std::string& output);
 int merge_command(const MergeCommandOptions& options);
 
 // The random sweep's uniform number in [0, 1) for (seed, member, pointer): splitmix64 (Steele, Lea & Flood,
