@@ -52,8 +52,11 @@ class Observation final : public StepAccess {
     // The step just taken, with the driver's arguments: a grid step (n·dt, dt) or the final side-step to t_end.
     double tau = t - t_prev_;
     if (fixed_) {
-      const lgi::detail::GridPoint at = lgi::detail::locate(0.0, dt_, t);
-      if (at.on_grid && at.m == n_prev_ + 1) {
+      // the grid's events are at exactly (n + 1)·dt; t_end within 16 ulps of a grid point is on it (locate)
+      if (t == static_cast<double>(n_prev_ + 1) * dt_) {
+        tau = dt_;
+        ++n_prev_;
+      } else if (const lgi::detail::GridPoint at = lgi::detail::locate(0.0, dt_, t); at.on_grid && at.m == n_prev_ + 1) {
         tau = dt_;
         n_prev_ = at.m;
       }
