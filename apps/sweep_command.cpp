@@ -8,7 +8,10 @@
 #include "scene.hpp"
 #include "sweep_observe.hpp"
 
+#include <lgi/core/inertia.hpp>
+#include <lgi/core/invariants.hpp>
 #include <lgi/core/so3.hpp>
+#include <lgi/integrators/batch_lgvi.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -27,8 +30,10 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <span>
 #include <sstream>
 #include <thread>
+#include <variant>
 #include <vector>
 
 namespace lgi::app {
@@ -79,6 +84,7 @@ struct Sweep {
   std::int64_t members = 0;
   std::vector<Record> record;
   ObserveSpec observe;  // what the members' runs record as they go (extrema, crossings, Lyapunov)
+  Scene scene0;         // member 0, loaded
   std::string header;  // without the newline
   std::uint64_t hash = 0;
   bool records(Record r) const { return std::find(record.begin(), record.end(), r) != record.end(); }
@@ -332,7 +338,8 @@ Sweep read_sweep(const std::string& file) {
   // Every member is loaded again before it runs; here, before any output: member 0, and each value of each
   // grid axis (the others at member 0's) or each end of each random range — most bad values are caught now.
   const std::vector<double> v0 = member_values(s, 0);
-  const Scene scene0 = member_scene(s, v0, member_label(s, 0, v0));
+  s.scene0 = member_scene(s, v0, member_label(s, 0, v0));
+  const Scene& scene0 = s.scene0;
   read_observe(sweep, scene0, s.observe);
   std::int64_t stride = 1;
   for (std::size_t k = s.keys.size(); k-- > 0;) {
@@ -427,20 +434,10 @@ struct MemberResult {
   Outcome outcome = Outcome::completed;
 };
 
-MemberResult run_member(const Sweep& s, std::int64_t m, const volatile std::sig_atomic_t* stop) {
-  const std::vector<double> v = member_values(s, m);
-  Scene scene = member_scene(s, v, member_label(s, m, v));
-  // No rows are written: no side-steps to the scene's output times (the trajectory does not depend on them).
-  scene.output_times.clear();
-  scene.output_every = 0;
-  RunOptions options;  // no rows, no progress, no checkpoints
-  options.stop = stop;
-  std::optional<MemberObserver> observer;
-  if (s.observe.any()) {
-    observer.emplace(s.observe, body_data(scene), std::to_string(m) + ",");
-    options.observer = &*observer;
-  }
-  const RunReport r = run_scene(scene, options);
+// Member m's row (and crossing rows) from its run's report: the same for a member run by the runner and one run
+// in a batch (run_batch below).
+MemberResult member_result(const Sweep& s, std::int64_t m, const std::vector<double>& v, const RunReport& r,
+                           MemberObserver* observer) {
   MemberResult result;
   std::string& row = result.row;
   row = std::to_string(m);
@@ -478,6 +475,132 @@ MemberResult run_member(const Sweep& s, std::int64_t m, const volatile std::sig_
   row += '\n';
   if (observer) result.crossings = std::move(observer->crossing_rows());
   return result;
+}
+
+MemberResult run_member(const Sweep& s, std::int64_t m, const volatile std::sig_atomic_t* stop) {
+  const std::vector<double> v = member_values(s, m);
+  Scene scene = member_scene(s, v, member_label(s, m, v));
+  // No rows are written: no side-steps to the scene's output times (the trajectory does not depend on them).
+  scene.output_times.clear();
+  scene.output_every = 0;
+  RunOptions options;  // no rows, no progress, no checkpoints
+  options.stop = stop;
+  std::optional<MemberObserver> observer;
+  if (s.observe.any()) {
+    observer.emplace(s.observe, body_data(scene), std::to_string(m) + ",");
+    options.observer = &*observer;
+  }
+  return member_result(s, m, v, run_scene(scene, options), observer ? &*observer : nullptr);
+}
+
+// ---- the batched path --------------------------------------------------------------------------------------
+// A sweep qualifies when every member is an LGVI run of the same heavy top or free body with diagonal J (the
+// kernel's condition; integrators/batch_lgvi.hpp) over the same whole number of steps, the members differing only
+// in their initial state and b: its keys are all under /initial/ or /problem/b, t_end is on the grid, no
+// limits.max_steps, nothing recorded during the run. Its members then run in blocks through
+// integrate_batch_lgvi, whose results equal the single-body Lgvi's bit for bit (tests/test_batch.cpp); the rows
+// are built from them exactly as from the runner's report (tests/test_cli_sweep.cpp compares the bytes with
+// --no-batch). Members longer than batch_max_steps run one by one, so that a signal still stops them within
+// 1024 steps; a block (≤ batch_block_work body-steps) runs to its end before a signal is seen.
+inline constexpr std::int64_t batch_max_steps = std::int64_t{1} << 20;
+inline constexpr std::int64_t batch_block_work = std::int64_t{1} << 22;
+
+// The number of steps of each member when the sweep qualifies for the batched path (0 otherwise; `why` says why).
+std::int64_t batch_steps(const Sweep& s, const Scene& scene0, std::string& why) {
+  const bool heavy = std::holds_alternative<HeavyTop<double>>(scene0.problem);
+  const bool free_body = std::holds_alternative<FreeBody<double>>(scene0.problem);
+  const auto no = [&](const std::string& reason) {
+    why = reason;
+    return std::int64_t{0};
+  };
+  if (scene0.method->traits.name != "lgvi") return no("the method is not lgvi");
+  if (!heavy && !free_body) return no("the problem is not heavy_top or free_body");
+  const Mat3<double>& J = heavy ? std::get<HeavyTop<double>>(scene0.problem).inertia
+                                : std::get<FreeBody<double>>(scene0.problem).inertia;
+  if (!Inertia<double>(J).diagonal) return no("the inertia tensor is not diagonal");
+  for (const Key& key : s.keys)
+    if (key.pointer.rfind("/initial/", 0) != 0 && !(heavy && key.pointer == "/problem/b"))
+      return no("the members differ in " + key.pointer + " (batched: /initial/... and /problem/b only)");
+  if (s.observe.any()) return no("the sweep records extrema, crossings or Lyapunov estimates during the run");
+  if (scene0.max_steps > 0) return no("the scene has limits.max_steps");
+  const lgi::detail::GridPoint end = lgi::detail::locate(0.0, scene0.dt, scene0.t_end);
+  if (!(scene0.t_end > 0) || !end.on_grid) return no("t_end is not a whole number of steps");
+  if (end.m > batch_max_steps) return no("the members take more than 2^20 steps each (one by one, signals stop them sooner)");
+  return end.m;
+}
+
+// Members k_begin … k_end − 1 of this shard (m = shard + k·shards) through the batched LGVI; results in k order.
+const char* kernel_name(int kernel) {
+  switch (static_cast<BatchKernel>(kernel)) {
+    case BatchKernel::baseline: return "baseline";
+    case BatchKernel::avx2: return "avx2";
+    case BatchKernel::per_body: return "per-body";
+    case BatchKernel::automatic: break;
+  }
+  return "none";
+}
+
+// `member` follows the member being loaded (a bad one throws), then names the block's first for the kernel.
+std::vector<MemberResult> run_batch(const Sweep& s, std::int64_t k_begin, std::int64_t k_end, std::int64_t shard,
+                                    std::int64_t shards, std::int64_t n_steps, BatchKernel& kernel, std::int64_t& member) {
+  const auto count = static_cast<std::size_t>(k_end - k_begin);
+  std::vector<std::vector<double>> values(count);
+  std::vector<Scene> scenes;
+  scenes.reserve(count);
+  BodyBatch batch(count);
+  std::vector<double> b;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::int64_t m = shard + (k_begin + static_cast<std::int64_t>(i)) * shards;
+    member = m;
+    values[i] = member_values(s, m);
+    scenes.push_back(member_scene(s, values[i], member_label(s, m, values[i])));
+    batch.set_state(i, scenes[i].initial);
+    if (const auto* top = std::get_if<HeavyTop<double>>(&scenes[i].problem)) b.push_back(top->b);
+  }
+  const Scene& scene0 = scenes.front();
+  const double dt = scene0.dt;
+  member = shard + k_begin * shards;
+  std::visit(
+      [&](const auto& problem) {
+        using P = std::decay_t<decltype(problem)>;
+        if constexpr (LgviBatchProblem<P>)
+          kernel = integrate_batch_lgvi(problem, batch, 0.0, dt, n_steps, scene0.options, BatchOptions{1},
+                                        std::span<const double>(b));
+        else
+          throw std::logic_error("lgi sweep: a batch of problem " + std::string(P::name));
+      },
+      scene0.problem);
+
+  std::vector<MemberResult> results;
+  results.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Scene& scene = scenes[i];
+    RunReport r;  // what run_scene reports for the same member (runner_impl.hpp, run_stepper and drive_grid)
+    r.summary.steps = batch.steps[i];
+    if (batch.status[i] == StepStatus::ok) {
+      r.summary.t = scene.t_end;
+    } else {
+      r.summary.status = RunStatus::step_failed;
+      r.summary.step_status = batch.status[i];
+      r.summary.t = static_cast<double>(batch.steps[i]) * dt;
+    }
+    r.final_state = batch.steps[i] > 0 ? batch.state(i) : scene.initial;  // not moved: the state as given
+    std::visit(
+        [&](const auto& problem) {
+          using P = std::decay_t<decltype(problem)>;
+          if constexpr (LgviBatchProblem<P>) {
+            r.energy_initial = energy_at(problem, 0.0, scene.initial);
+            r.energy_final = energy_at(problem, r.summary.t, r.final_state);
+            const auto inv0 = invariants_at(problem, 0.0, scene.initial);
+            const auto inv1 = invariants_at(problem, r.summary.t, r.final_state);
+            for (std::size_t j = 0; j < inv0.size(); ++j)
+              r.invariants.push_back({std::string(P::invariant_names[j]), inv0[j], inv1[j]});
+          }
+        },
+        scene.problem);
+    results.push_back(member_result(s, shard + (k_begin + static_cast<std::int64_t>(i)) * shards, values[i], r, nullptr));
+  }
+  return results;
 }
 
 // The first line of a part file; `what`: "" for the rows, " crossings" for the crossings.
@@ -559,14 +682,26 @@ int sweep_command(const SweepCommandOptions& options) {
   std::int64_t outcomes[3] = {0, 0, 0};
   std::optional<std::pair<std::int64_t, std::string>> error;  // the lowest failing member seen, and its message
   int error_status = exit_bad_input;
+  // The batched path (run_batch) when the sweep qualifies and --no-batch is not given: blocks of members.
+  std::string why_not = "--no-batch";
+  const std::int64_t n_steps = options.batch ? batch_steps(s, s.scene0, why_not) : 0;
+  const std::int64_t block = n_steps > 0 ? std::clamp<std::int64_t>(batch_block_work / n_steps, 4, 1024) : 1;
+  std::atomic<int> kernel_used{-1};
   const auto work = [&] {
     for (;;) {
-      const std::int64_t k = next.fetch_add(1);
-      if (k >= count || abort.load() || (options.stop && *options.stop)) return;
-      const std::int64_t m = shard + k * shards;
-      MemberResult result;
+      const std::int64_t k0 = next.fetch_add(block);
+      if (k0 >= count || abort.load() || (options.stop && *options.stop)) return;
+      const std::int64_t k1 = std::min(count, k0 + block);
+      std::int64_t m = shard + k0 * shards;
+      std::vector<MemberResult> results;
       try {
-        result = run_member(s, m, options.stop);
+        if (n_steps > 0) {
+          BatchKernel kernel = BatchKernel::automatic;
+          results = run_batch(s, k0, k1, shard, shards, n_steps, kernel, m);
+          kernel_used = static_cast<int>(kernel);
+        } else {
+          results.push_back(run_member(s, m, options.stop));
+        }
       } catch (const std::exception& e) {
         const std::lock_guard lock(mutex);
         if (!error || m < error->first) {
@@ -577,8 +712,10 @@ int sweep_command(const SweepCommandOptions& options) {
         return;
       }
       const std::lock_guard lock(mutex);
-      ++outcomes[static_cast<int>(result.outcome)];
-      pending.emplace(k, std::move(result));
+      for (std::size_t i = 0; i < results.size(); ++i) {
+        ++outcomes[static_cast<int>(results[i].outcome)];
+        pending.emplace(k0 + static_cast<std::int64_t>(i), std::move(results[i]));
+      }
       for (auto it = pending.begin(); it != pending.end() && it->first == written; it = pending.erase(it), ++written) {
         const std::string& row = it->second.row;
         write_failed = write_failed || std::fwrite(row.data(), 1, row.size(), f) != row.size();
@@ -606,13 +743,16 @@ int sweep_command(const SweepCommandOptions& options) {
   if (write_failed || written != count) return fail(exit_io_error, options.output + ": write error");
   if (!commit_outputs(*out, options.output, crossings_out.get())) return exit_io_error;
   if (!options.quiet) {
-    char buf[512];
+    char buf[1024];
     std::snprintf(buf, sizeof buf,
-                  "%s: %lld members%s, %u thread%s, %.3f s (%.1f members/s): %lld completed, %lld step failed, "
+                  "%s: %lld members%s, %u thread%s, %s, %.3f s (%.1f members/s): %lld completed, %lld step failed, "
                   "%lld stopped; %s\n",
                   options.sweep_file.c_str(), static_cast<long long>(s.members),
                   sharded ? (" (shard " + options.shard + ": " + std::to_string(count) + ")").c_str() : "", threads,
-                  threads == 1 ? "" : "s", seconds, seconds > 0 ? static_cast<double>(count) / seconds : 0.0,
+                  threads == 1 ? "" : "s",
+                  n_steps > 0 ? (std::string("batched LGVI (") + kernel_name(kernel_used.load()) + " kernel)").c_str()
+                              : ("member by member (not batched: " + why_not + ")").c_str(),
+                  seconds, seconds > 0 ? static_cast<double>(count) / seconds : 0.0,
                   static_cast<long long>(outcomes[0]), static_cast<long long>(outcomes[1]),
                   static_cast<long long>(outcomes[2]), options.output.c_str());
     std::fputs(buf, stderr);

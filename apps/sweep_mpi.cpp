@@ -1,6 +1,6 @@
 // lgi_sweep_mpi — `lgi sweep` across MPI ranks (optional: built when CMake finds MPI; docs/sweep.md "MPI").
 //
-//   mpirun -np N lgi_sweep_mpi SWEEPFILE -o OUT.csv [--threads T] [-q]
+//   mpirun -np N lgi_sweep_mpi SWEEPFILE -o OUT.csv [--threads T] [--no-batch] [-q]
 //
 // Rank r runs the members m with m mod N = r — exactly `lgi sweep --shard r/N`, through the same code — into a
 // part file in its temporary directory; the ranks send their parts' bytes to rank 0 (point to point, in chunks of
@@ -56,7 +56,7 @@ std::string receive_bytes(int from) {
 }
 
 int usage() {
-  std::fprintf(stderr, "usage: mpirun -np N lgi_sweep_mpi SWEEPFILE -o OUT.csv [--threads T] [-q]\n");
+  std::fprintf(stderr, "usage: mpirun -np N lgi_sweep_mpi SWEEPFILE -o OUT.csv [--threads T] [--no-batch] [-q]\n");
   return lgi::app::exit_bad_input;
 }
 
@@ -71,6 +71,7 @@ int run(int rank, int size, int argc, char** argv) {
       if (*end != '\0' || t < 0 || t > 4096) return rank == 0 ? lgi::app::fail(1, "--threads: expected 0 ... 4096") : 1;
       options.threads = static_cast<int>(t);
     } else if (a == "-q" || a == "--quiet") options.quiet = true;
+    else if (a == "--no-batch") options.batch = false;
     else if (options.sweep_file.empty() && !a.empty() && a[0] != '-') options.sweep_file = a;
     else return rank == 0 ? usage() : 1;
   }

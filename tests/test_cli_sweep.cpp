@@ -292,25 +292,36 @@ TEST_F(CliSweep, ThreadCountDoesNotChangeTheBytes) {
   }
 }
 
-// SIGTERM during a sweep (40 members of 1e7 LGVI steps each, over a second per member; the signal comes after 1 s):
-// exit 128 + 15, one line on stderr, and nothing written — no output, no temporary file.
+// SIGTERM during a sweep, the signal after 1 s: exit 128 + 15, one line on stderr, and nothing written — no output,
+// no temporary file. Member by member (40 members of 1e7 LGVI steps, over a second each: 1e7 > 2^20 steps keeps
+// them off the batched path) and batched (400 members of 1e6 steps in blocks of 4, ~0.1 s a block; ~90 s in all).
 TEST_F(CliSweep, InterruptedSweepWritesNothing) {
-  write("long.json", R"({"problem": {"type": "heavy_top", "inertia": [2.0, 2.0, 1.0], "b": 1.0},
-                         "initial": {"omega": [0.1, 0.2, 5.0]}, "integrator": {"method": "lgvi", "dt": 0.001},
-                         "t_end": 10000.0, "sweep": {"grid": {"/problem/b": {"from": 0.5, "to": 1.5, "count": 40}}}})");
-  const fs::path err = fs::temp_directory_path() / ("lgi_sweep_interrupted_" + std::to_string(::getpid()) + ".txt");
-  const std::string cmd = std::string(LGI_EXE) + " sweep " + (dir_ / "long.json").string() + " -o " +
-                          (dir_ / "out.csv").string() + " --threads 2 2> " + err.string() +
-                          " & pid=$!; sleep 1; kill -TERM $pid; wait $pid";
-  const int raw = std::system(cmd.c_str());
-  const std::string message = slurp(err);
-  fs::remove(err);
-  ASSERT_TRUE(WIFEXITED(raw));
-  EXPECT_EQ(WEXITSTATUS(raw), 128 + 15) << message;
-  EXPECT_NE(message.find("interrupted by SIGTERM"), std::string::npos) << message;
-  EXPECT_NE(message.find("nothing written"), std::string::npos) << message;
-  EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
-  expect_only({"long.json"});
+  const std::string scene = R"({"problem": {"type": "heavy_top", "inertia": [2.0, 2.0, 1.0], "b": 1.0},
+                               "initial": {"omega": [0.1, 0.2, 5.0]}, "integrator": {"method": "lgvi", "dt": 0.001},)";
+  write("long.json", scene + R"("t_end": 10000.0, "sweep": {"grid": {"/problem/b": {"from": 0.5, "to": 1.5, "count": 40}}}})");
+  write("batched.json", scene + R"("t_end": 1000.0, "sweep": {"grid": {"/problem/b": {"from": 0.5, "to": 1.5, "count": 400}}}})");
+  for (const std::string file : {"long.json", "batched.json"}) {
+    SCOPED_TRACE(file);
+    const fs::path err = fs::temp_directory_path() / ("lgi_sweep_interrupted_" + std::to_string(::getpid()) + ".txt");
+    const std::string cmd = std::string(LGI_EXE) + " sweep " + (dir_ / file).string() + " -o " +
+                            (dir_ / "out.csv").string() + " --threads 2 2> " + err.string() +
+                            " & pid=$!; sleep 1; kill -TERM $pid; wait $pid";
+    const int raw = std::system(cmd.c_str());
+    const std::string message = slurp(err);
+    fs::remove(err);
+    ASSERT_TRUE(WIFEXITED(raw));
+    EXPECT_EQ(WEXITSTATUS(raw), 128 + 15) << message;
+    EXPECT_NE(message.find("interrupted by SIGTERM"), std::string::npos) << message;
+    EXPECT_NE(message.find("nothing written"), std::string::npos) << message;
+    EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
+    // stopped where it was: "after K of N members" with K < N (ignoring the signal until the end would give N of N)
+    const auto after = message.find(" after ");
+    ASSERT_NE(after, std::string::npos) << message;
+    long done = -1, total = -1;
+    ASSERT_EQ(std::sscanf(message.c_str() + after, " after %ld of %ld members", &done, &total), 2) << message;
+    EXPECT_LT(done, total) << message;
+    expect_only({"long.json", "batched.json"});
+  }
 }
 
 // --shard i/3 parts merged (in any order) are the serial run's file byte for byte; so are 7 shards of 30
@@ -514,6 +525,87 @@ TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {
   ASSERT_EQ(sweep("c.json", "cserial.csv").status, 0);
   EXPECT_EQ(read("cmerged.csv"), read("cserial.csv"));
   EXPECT_EQ(read("cmerged.crossings.csv"), read("cserial.crossings.csv"));
+}
+
+// A sweep that qualifies for the batched LGVI kernel — a heavy top with diagonal J, members differing in Ω0 and b,
+// t_end a whole number of steps — writes the bytes of the member-by-member run (--no-batch): members that complete,
+// that fail at their first step (the row holds the initial state) and that fail mid-run (steps 1 … 4 of 50); with
+// 1 and 3 threads and in 3 shards merged; the summary says which path ran. Sweeps that do not qualify say why.
+TEST_F(CliSweep, BatchedKernelWritesTheMemberByMemberBytes) {
+  const std::string top = R"({"problem": {"type": "heavy_top", "inertia": [2.0, 2.0, 1.0], "b": 1.0, "k": [0.0, 0.6, 0.8],
+                                          "z0": [0.0, 0.0, 1.0]},
+                              "initial": {"omega": [0.1, 0.2, 5.0]}, "integrator": {"method": "lgvi", "dt": DT},
+                              "t_end": 5, "sweep": )";
+  const auto with_dt = [&](const std::string& dt, const std::string& sweep_section) {
+    std::string doc = top + sweep_section + "}";
+    doc.replace(doc.find("DT"), 2, dt);
+    return doc;
+  };
+  write("grid.json", with_dt("0.1", R"({"grid": {"/problem/b": [0.5, 30, 65, 120], "/initial/omega/2": [3, 8, 12],
+                                                  "/initial/omega/0": {"from": -1, "to": 1, "count": 7}}})"));
+  const CommandResult batched = sweep("grid.json", "batched.csv");
+  ASSERT_EQ(batched.status, 0) << batched.err;
+  EXPECT_NE(batched.err.find("batched LGVI ("), std::string::npos) << batched.err;
+  const CommandResult single = sweep("grid.json", "single.csv", "--no-batch");
+  ASSERT_EQ(single.status, 0) << single.err;
+  EXPECT_NE(single.err.find("member by member (not batched: --no-batch)"), std::string::npos) << single.err;
+  const std::string bytes = read("single.csv");
+  EXPECT_EQ(read("batched.csv"), bytes);
+  int completed = 0, at_once = 0, mid_run = 0;
+  for (const auto& line : lines_of(bytes)) {
+    const auto cells = split(line, ',');
+    if (cells[4] == "completed") ++completed;
+    else if (cells[4] == "not_converged" && cells[5] == "0") ++at_once;
+    else if (cells[4] == "not_converged") ++mid_run;
+  }
+  EXPECT_GT(completed, 0);
+  EXPECT_GT(at_once, 0);
+  EXPECT_GT(mid_run, 0);
+  ASSERT_EQ(sweep("grid.json", "t3.csv", "--threads 3").status, 0);
+  EXPECT_EQ(read("t3.csv"), bytes);
+  std::string parts;
+  for (int i = 0; i < 3; ++i) {
+    const std::string part = "p" + std::to_string(i) + ".csv";
+    ASSERT_EQ(sweep("grid.json", part, "--threads 2 --shard " + std::to_string(i) + "/3").status, 0);
+    parts += (dir_ / part).string() + " ";
+  }
+  ASSERT_EQ(lgi("merge " + parts + "-o " + (dir_ / "merged.csv").string()).status, 0);
+  EXPECT_EQ(read("merged.csv"), bytes);
+
+  struct Case {
+    std::string file, message;
+  };
+  const std::vector<Case> not_batched = {
+      {with_dt("0.3", R"({"grid": {"/problem/b": [1, 2]}})"), "t_end is not a whole number of steps"},
+      {with_dt("0.1", R"({"grid": {"/integrator/dt": [0.1, 0.05]}})"), "the members differ in /integrator/dt"},
+      {with_dt("0.1", R"({"grid": {"/problem/b": [1, 2]}, "extrema": ["tilt"]})"), "the sweep records extrema, crossings or Lyapunov"},
+  };
+  for (const Case& c : not_batched) {
+    write("nb.json", c.file);
+    const CommandResult r = sweep("nb.json", "nb.csv");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("member by member (not batched: " + c.message), std::string::npos) << r.err;
+  }
+}
+
+// Every example sweep (examples/sweep/*.json) loads, passes the checks before the run, and runs its member 0
+// (--shard 0/N with N beyond its member count): the examples cannot rot unnoticed.
+TEST_F(CliSweep, ExampleSweepsLoadAndRun) {
+  int examples = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(LGI_EXAMPLES_DIR) / "sweep")) {
+    if (entry.path().extension() != ".json") continue;
+    ++examples;
+    SCOPED_TRACE(entry.path().string());
+    const CommandResult r = lgi("sweep " + entry.path().string() + " --shard 0/10000000 -q -o " + (dir_ / "part.csv").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto lines = lines_of(read("part.csv"));
+    ASSERT_EQ(lines.size(), 3u);  // the shard line, the header, member 0
+    EXPECT_EQ(lines[2].rfind("0,", 0), 0u);
+    if (lines[1].find(",status,") != std::string::npos) {
+      EXPECT_NE(lines[2].find(",completed,"), std::string::npos) << lines[2];
+    }
+  }
+  EXPECT_GE(examples, 4);
 }
 
 #ifdef LGI_SWEEP_MPI_EXE
