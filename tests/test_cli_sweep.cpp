@@ -264,6 +264,40 @@ TEST_F(CliSweep, InRunRecordsLeaveTheTrajectoryAlone) {
     }
   }
   EXPECT_EQ(next, crossings.size());  // no rows beyond the members' counts
+
+  // The same for an adaptive run (extrema at the accepted steps) and the seed paper's Euler-angle top (its own
+  // runner path), with the scene's own output times, which a sweep ignores.
+  const std::vector<std::pair<std::string, std::string>> others = {
+      {R"({"problem": {"type": "heavy_top", "inertia": [0.6, 0.8, 1.0], "b": 1}, "initial": {"omega": [1, 0.5, 2]},
+           "integrator": {"method": "rkmk_dp5", "dt": 0.1, "rtol": 1e-9, "atol": 1e-9}, "t_end": 3,
+           "output": {"times": [0.5, 1.25]},)",
+       R"({"grid": {"/initial/omega/1": [0.5, -1]}, "extrema": ["omega1", "tilt"]})"},
+      {R"({"problem": {"type": "lagrange_top_euler_angles", "I2": 2, "I3": 1, "b": 1, "k2": 0.6, "k3": 0.8},
+           "initial": {"euler_angles": [0.1, 0.5, 0.2], "euler_rates": [0.3, 0.1, 4]},
+           "integrator": {"method": "rkmk4", "dt": 0.01}, "t_end": 2.005, "output": {"every": 7},)",
+       R"({"grid": {"/initial/euler_rates/2": [4, 6]}, "extrema": ["tilt", "gamma2"]})"},
+  };
+  for (const auto& [scene, sweep_section] : others) {
+    SCOPED_TRACE(scene);
+    std::string plain_sweep = sweep_section;
+    plain_sweep.replace(plain_sweep.find(", \"extrema\""), std::string::npos, ", \"record\": [\"status\", \"final\"]}");
+    std::string observed_sweep = sweep_section;
+    observed_sweep.insert(observed_sweep.size() - 1, R"(, "record": ["status", "final", "extrema"])");
+    write("plain.json", scene + R"( "sweep": )" + plain_sweep + "}");
+    write("observed.json", scene + R"( "sweep": )" + observed_sweep + "}");
+    ASSERT_EQ(sweep("plain.json", "plain.csv").status, 0);
+    const CommandResult o = sweep("observed.json", "observed.csv");
+    ASSERT_EQ(o.status, 0) << o.err;
+    const auto p = lines_of(read("plain.csv")), q = lines_of(read("observed.csv"));
+    ASSERT_EQ(p.size(), 3u);
+    ASSERT_EQ(q.size(), 3u);
+    for (std::size_t m = 1; m < 3; ++m) {
+      EXPECT_EQ(q[m].substr(0, p[m].size() + 1), p[m] + ",") << m;
+      const auto cells = split(q[m], ',');
+      const auto lo = std::strtod(cells[cells.size() - 4].c_str(), nullptr), hi = std::strtod(cells[cells.size() - 3].c_str(), nullptr);
+      EXPECT_LT(lo, hi);  // the first function moved during the run
+    }
+  }
 }
 
 // The same bytes whatever the number of threads (members of different cost: dt varies 5-fold).
