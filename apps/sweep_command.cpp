@@ -685,7 +685,10 @@ int sweep_command(const SweepCommandOptions& options) {
   // The batched path (run_batch) when the sweep qualifies and --no-batch is not given: blocks of members.
   std::string why_not = "--no-batch";
   const std::int64_t n_steps = options.batch ? batch_steps(s, s.scene0, why_not) : 0;
-  const std::int64_t block = n_steps > 0 ? std::clamp<std::int64_t>(batch_block_work / n_steps, 4, 1024) : 1;
+  // Blocks of at most batch_block_work body-steps, at least 4 per thread when there are enough members.
+  const std::int64_t per_thread = (count + 4 * std::int64_t{threads} - 1) / (4 * std::int64_t{threads});
+  const std::int64_t block =
+      n_steps > 0 ? std::clamp<std::int64_t>(std::min(batch_block_work / n_steps, per_thread), 4, 1024) : 1;
   std::atomic<int> kernel_used{-1};
   const auto work = [&] {
     for (;;) {

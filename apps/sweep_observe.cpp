@@ -91,12 +91,6 @@ StateFunction read_state_function(const Node& node, const BodyData& body, const 
   return f;
 }
 
-double state_distance(const State<double>& a, const State<double>& b, double omega_scale) {
-  const Vec3<double> dR = so3::log(Mat3<double>(a.R.transpose() * b.R));
-  const Vec3<double> dW = omega_scale * (b.Omega - a.Omega);
-  return std::sqrt(dR.squaredNorm() + dW.squaredNorm());
-}
-
 MemberObserver::MemberObserver(const ObserveSpec& spec, const BodyData& body, std::string crossing_prefix)
     : spec_(spec), body_(body), prefix_(std::move(crossing_prefix)) {
   min_.assign(spec.extrema.size(), std::numeric_limits<double>::infinity());
@@ -168,7 +162,6 @@ void MemberObserver::crossing(double t_prev, double t, const State<double>& x, S
   g_prev_ = g1;
   const bool up = g0 < 0 && g1 >= 0, down = g0 > 0 && g1 <= 0;
   if (!((s.direction >= 0 && up) || (s.direction <= 0 && down))) return;
-  ++crossings_found_;
   if (s.max_crossings > 0 && crossings_written_ >= s.max_crossings) return;
   double tc = t;
   State<double> xc = x;

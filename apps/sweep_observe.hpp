@@ -121,14 +121,11 @@ class MemberObserver final : public RunObserver {
   std::vector<double> min_, max_;
   // crossings
   double g_prev_ = 0;  // f − value at the previous state
-  std::int64_t crossings_found_ = 0, crossings_written_ = 0;
+  std::int64_t crossings_written_ = 0;
   std::string crossings_;
   // Lyapunov
   bool lyap_active_ = false;
   double lyap_sum_ = 0, lyap_t_ = 0, lyap_last_ = 0;
 };
-
-// The Lyapunov estimate's distance and displacement on SO(3) × R³ (see the header), for tests.
-double state_distance(const State<double>& a, const State<double>& b, double omega_scale);
 
 }  // namespace lgi::app
