@@ -20,8 +20,9 @@ message says that the figure was not redrawn, and the exit status is 2.
 import argparse
 import csv
 import math
-import re
 import sys
+
+import sweep_report
 
 I1 = 1.0  # examples/sweep/heavy_top_poincare.json: J = diag(1, 2, 3), k = e3
 
@@ -63,23 +64,13 @@ def main():
                f"(m·k = 0: absolute).")
     print(summary)
     if a.doc:
-        text = open(a.doc).read()
-        new, n = re.subn(r"(<!-- poincare:begin -->\n).*?(<!-- poincare:end -->)",
-                         lambda m: m.group(1) + summary + "\n" + m.group(2), text, flags=re.S)
-        if n != 1:
-            sys.exit(f"poincare: {a.doc} has no <!-- poincare:begin --> ... <!-- poincare:end --> block")
-        open(a.doc, "w").write(new)
+        sweep_report.splice(a.doc, "poincare", summary, "poincare")
     if not a.png:
         return 0
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        import numpy as np
-    except ImportError as e:
-        print(f"poincare: matplotlib/numpy cannot be imported ({e}; Debian: apt-get install python3-matplotlib, run "
-              f"under /usr/bin/python3): the summary is written, {a.png} is NOT redrawn", file=sys.stderr)
+    modules = sweep_report.pyplot(a.png, "poincare", "the summary")
+    if modules is None:
         return 2
+    plt, np = modules
 
     lam = np.array(lam)
     order = np.argsort(lam)  # chaotic points on top

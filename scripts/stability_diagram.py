@@ -24,8 +24,9 @@ Only the standard library is needed for the numbers.
 import argparse
 import csv
 import math
-import re
 import sys
+
+import sweep_report
 
 I1, I3, B = 2.0, 1.0, 1.0  # examples/sweep/lagrange_stability.json
 
@@ -157,25 +158,13 @@ def main():
     print(table)
 
     if a.doc:
-        text = open(a.doc).read()
-        new, n = re.subn(r"(<!-- stability:begin -->\n).*?(<!-- stability:end -->)",
-                         lambda m: m.group(1) + table + "\n" + m.group(2), text, flags=re.S)
-        if n != 1:
-            sys.exit(f"stability_diagram: {a.doc} has no <!-- stability:begin --> ... <!-- stability:end --> block")
-        open(a.doc, "w").write(new)
-
+        sweep_report.splice(a.doc, "stability", table, "stability_diagram")
     if not a.png:
         return 0
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        import numpy as np
-    except ImportError as e:
-        print(f"stability_diagram: matplotlib/numpy cannot be imported ({e}; Debian: apt-get install "
-              f"python3-matplotlib, run under /usr/bin/python3): the table is written, {a.png} is NOT redrawn",
-              file=sys.stderr)
+    modules = sweep_report.pyplot(a.png, "stability_diagram", "the table")
+    if modules is None:
         return 2
+    plt, np = modules
 
     T = np.array(tilts)
     W = np.array(spins)

@@ -27,13 +27,7 @@ namespace {
 using lgi::test::CommandResult;
 using lgi::test::slurp;
 
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string cell;
-  std::istringstream in(s);
-  while (std::getline(in, cell, sep)) out.push_back(cell);
-  return out;
-}
+using lgi::test::split;
 
 std::vector<std::string> lines_of(const std::string& text) { return split(text, '\n'); }
 

@@ -19,13 +19,7 @@ namespace {
 
 using lgi::test::CommandResult;
 
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string cell;
-  std::istringstream in(s);
-  while (std::getline(in, cell, sep)) out.push_back(cell);
-  return out;
-}
+using lgi::test::split;
 
 // A CSV as rows of named numbers (cells that are not numbers read as 0).
 struct Table {
