@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -50,8 +51,8 @@ class AtomicOutput {
     fchmod(fd, 0666 & ~mask);
     file_ = fdopen(fd, "w");
     if (!file_) throw std::runtime_error(target + ": cannot open the output file: " + std::strerror(errno));
-    static char buffer[1 << 16];
-    std::setvbuf(file_, buffer, _IOFBF, sizeof buffer);
+    buffer_ = std::make_unique<char[]>(buffer_size);  // its own: two outputs may be open at once
+    std::setvbuf(file_, buffer_.get(), _IOFBF, buffer_size);
   }
   AtomicOutput(const AtomicOutput&) = delete;
   AtomicOutput& operator=(const AtomicOutput&) = delete;
@@ -73,8 +74,10 @@ class AtomicOutput {
   }
 
  private:
+  static constexpr std::size_t buffer_size = 1 << 16;
   std::string target_, temp_;
   std::FILE* file_ = nullptr;
+  std::unique_ptr<char[]> buffer_;
   bool committed_ = false;
 };
 

@@ -4,7 +4,7 @@
 //                                    integrate a scene; CSV to FILE (or stdout), a summary on stderr
 //   lgi run --resume CK [-o FILE] [-q]   continue a stopped run from its checkpoint, bit for bit
 //   lgi fit FITFILE [-o FILE] [-v]   fit initial conditions and parameters to observations (apps/fit_command.hpp)
-//   lgi sweep SWEEPFILE -o FILE [--threads N] [--shard i/N]   run a scene's members, one CSV row each
+//   lgi sweep SWEEPFILE -o FILE [--threads N] [--shard i/N] [--no-batch]   run a scene's members, one CSV row each
 //   lgi merge PART... -o FILE        the shards of a sweep into the serial run's file (apps/sweep_command.hpp)
 //   lgi list [--markdown]            problems and methods, with each method's order and structure
 //
@@ -366,6 +366,9 @@ int main(int argc, char** argv) {
   sweep->add_option("--threads", sweep_options.threads, "Worker threads (0: all cores; default 1); same bytes for any N");
   sweep->add_option("--shard", sweep_options.shard, "Run the members m with m mod N = i and write a part for lgi merge");
   sweep->add_flag("-q,--quiet", sweep_options.quiet, "Nothing on stderr but errors");
+  bool no_batch = false;
+  sweep->add_flag("--no-batch", no_batch,
+                  "Run members one by one even when the sweep qualifies for the batched LGVI kernel (same bytes)");
 
   auto* merge = app.add_subcommand("merge", "Merge the part files of lgi sweep --shard into the serial run's CSV");
   lgi::app::MergeCommandOptions merge_options;
@@ -389,6 +392,7 @@ int main(int argc, char** argv) {
     if (sweep->parsed()) {
       catch_interrupts();  // stop between members (and inside one) and remove the temporary output
       sweep_options.stop = &g_signal;
+      sweep_options.batch = !no_batch;
       return lgi::app::sweep_command(sweep_options);
     }
     if (merge->parsed()) return lgi::app::merge_command(merge_options);

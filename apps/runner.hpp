@@ -11,6 +11,15 @@
 // RunOptions::checkpoint_path, checkpoints (runner_checkpoint.hpp) are written periodically and where a signal
 // or a budget stops the run, and RunOptions::resume continues one bit for bit (runner_drive.hpp).
 // docs/checkpoints.md has the whole contract.
+//
+// In-run observation (RunOptions::observer; `lgi sweep`'s extrema, Poincaré crossings and Lyapunov estimates,
+// apps/sweep_observe.hpp): the run calls the observer with the initial state and after every step of its
+// trajectory — fixed steps: each grid step t_n = n·dt and the final side-step to t_end when t_end is off the
+// grid; adaptive runs: each accepted step — in place of the scene's output events (no rows: csv must be
+// nullptr), and once more when the run ends. Through StepAccess the observer may take side-steps from the
+// previous state and run a second ("shadow") trajectory with the same method and steps; neither touches the
+// run's own trajectory, whose states are bit for bit those of a run without an observer. A run without an
+// observer pays nothing for this: its drivers see only its own output events.
 #pragma once
 
 #include "runner_checkpoint.hpp"
@@ -25,6 +34,37 @@
 #include <vector>
 
 namespace lgi::app {
+
+// What an observed run lets its observer do between steps (fixed-step runs; can_step() is false for adaptive
+// runs, and the other calls then fail). "prev" is the state at the previous call (t = 0 for the first step).
+class StepAccess {
+ public:
+  virtual bool can_step() const = 0;
+  // The size of the step that led from prev to the state of the current step() call (its driver's own h).
+  virtual double step_size() const = 0;
+  // The state one step of size tau > 0 from prev reaches — the driver's side-step, as for an output time between
+  // grid points; tau = the step just taken gives exactly the trajectory's state. false: the step failed.
+  virtual bool side_step(double tau, State<double>& x) = 0;
+  // The shadow trajectory: set to x at the current time; from then on advanced with the run's own step sizes and
+  // times (before each call of RunObserver::step) until a step of it fails (shadow_ok() false; it stays there).
+  virtual void shadow_set(const State<double>& x) = 0;
+  virtual bool shadow_ok() const = 0;
+  virtual State<double> shadow_state() const = 0;
+
+ protected:
+  ~StepAccess() = default;
+};
+
+class RunObserver {
+ public:
+  virtual void start(const State<double>& x0, StepAccess& access) = 0;                         // at t = 0
+  virtual void step(double t_prev, double t, const State<double>& x, StepAccess& access) = 0;  // after each step
+  // When the run ends (completed or not): t and x its last good state (that of the last step() call, or x0).
+  virtual void finish(double t, const State<double>& x, StepAccess& access) = 0;
+
+ protected:
+  ~RunObserver() = default;
+};
 
 struct RunOptions {
   std::FILE* csv = nullptr;                         // rows go here; nullptr: no rows
@@ -42,6 +82,7 @@ struct RunOptions {
   json scene_document;         // the scene as loaded, recorded in checkpoints
   std::string version;         // lgi's, recorded in checkpoints
   const Checkpoint* resume = nullptr;  // continue this run (csv already holds its rows)
+  RunObserver* observer = nullptr;     // in-run observation (see the header); csv, checkpoints, resume: none
 };
 
 // Why a run that did not complete stopped (RunStatus::stopped, or step_failed for left_domain).

@@ -29,6 +29,81 @@ std::array<double, internal_size<Internal>()> numbers_of(const Internal& y) {
   return a;
 }
 
+// The run's side of in-run observation (runner.hpp, RunObserver and StepAccess): the previous state for side-steps,
+// the shadow trajectory, and which step led to each observed state. S: the run's stepper; from_state(x, t) its
+// Internal for a State (Stepper::to_internal). fixed: a fixed-step run (else side-steps and the shadow fail).
+template <class S, class FromState>
+class Observation final : public StepAccess {
+ public:
+  using Internal = typename S::Internal;
+  Observation(S& stepper, FromState from_state, double dt, bool fixed)
+      : stepper_(stepper), from_state_(from_state), dt_(dt), fixed_(fixed) {}
+
+  // An event of the observed run (every step): y nullptr is the initial state x0 at t = 0.
+  void event(double t, const Internal* y, const State<double>& x0, RunObserver& observer) {
+    if (!y) {
+      prev_ = from_state_(x0, 0.0);  // the run's own initial Internal
+      t_prev_ = t_now_ = 0;
+      n_prev_ = 0;
+      last_ = x0;
+      observer.start(x0, *this);
+      return;
+    }
+    // The step just taken, with the driver's arguments: a grid step (n·dt, dt) or the final side-step to t_end.
+    double tau = t - t_prev_;
+    if (fixed_) {
+      // the grid's events are at exactly (n + 1)·dt; t_end within 16 ulps of a grid point is on it (locate)
+      if (t == static_cast<double>(n_prev_ + 1) * dt_) {
+        tau = dt_;
+        ++n_prev_;
+      } else if (const lgi::detail::GridPoint at = lgi::detail::locate(0.0, dt_, t); at.on_grid && at.m == n_prev_ + 1) {
+        tau = dt_;
+        n_prev_ = at.m;
+      }
+    }
+    if (shadow_active_ && shadow_ok_ && step_once(shadow_, t_prev_, tau) != StepStatus::ok) shadow_ok_ = false;
+    t_now_ = t;
+    tau_ = tau;
+    last_ = stepper_.to_state(*y);
+    observer.step(t_prev_, t, last_, *this);
+    prev_ = *y;
+    t_prev_ = t;
+  }
+  // The run ended: its last observed state.
+  void finish(RunObserver& observer) { observer.finish(t_prev_, last_, *this); }
+
+  bool can_step() const override { return fixed_; }
+  double step_size() const override { return tau_; }
+  bool side_step(double tau, State<double>& x) override {
+    if (!fixed_) return false;
+    Internal z = prev_;
+    if (step_once(z, t_prev_, tau) != StepStatus::ok) return false;
+    x = stepper_.to_state(z);
+    return true;
+  }
+  void shadow_set(const State<double>& x) override {
+    shadow_ = from_state_(x, t_now_);
+    shadow_active_ = true;
+    shadow_ok_ = fixed_;
+  }
+  bool shadow_ok() const override { return shadow_active_ && shadow_ok_; }
+  State<double> shadow_state() const override { return stepper_.to_state(shadow_); }
+
+ private:
+  // One call site of the (large, flattened) step for the shadow and the side-steps: compile time.
+  [[gnu::noinline]] StepStatus step_once(Internal& z, double t, double h) { return stepper_.step(z, t, h); }
+
+  S& stepper_;
+  FromState from_state_;
+  double dt_;
+  bool fixed_;
+  Internal prev_{}, shadow_{};
+  double t_prev_ = 0, t_now_ = 0, tau_ = 0;
+  std::int64_t n_prev_ = 0;
+  State<double> last_;
+  bool shadow_active_ = false, shadow_ok_ = false;
+};
+
 // One invocation of a run, fresh or resumed, through the drivers of runner_drive.hpp: rows at the output times
 // (row(t, y), y nullptr for the initial state), the monitor (signals, wall-clock budget, flushing, periodic
 // checkpoints), and where the run ends early — a failed step, a signal, a budget — a checkpoint (signal or budget,
@@ -44,11 +119,14 @@ bool run_session(S& stepper, typename S::Internal& y, const Scene& scene, const 
   const bool adaptive = scene.options.rtol > 0;
   if (adaptive && !can_adapt) throw std::logic_error("lgi: rtol given to a method without an embedded pair");
 
-  // adaptive runs: the output times (t_end included), options.every N as every N accepted steps
-  std::vector<double> times = scene.output_times;
+  // adaptive runs: the output times (t_end included), options.every N as every N accepted steps. An observed run
+  // (RunOptions::observer) has an event after every step instead.
+  const bool observing = options.observer != nullptr;
+  std::vector<double> times = observing ? std::vector<double>{} : scene.output_times;
   if (times.empty() || times.back() < scene.t_end) times.push_back(scene.t_end);
   AdaptiveOptions adaptive_options;
-  if (scene.output_times.empty() && scene.output_every > 0) adaptive_options.every = scene.output_every;
+  if (observing) adaptive_options.every = 1;
+  else if (scene.output_times.empty() && scene.output_every > 0) adaptive_options.every = scene.output_every;
   adaptive_options.check();
 
   Cursor c;
@@ -103,11 +181,13 @@ bool run_session(S& stepper, typename S::Internal& y, const Scene& scene, const 
   if (!adaptive) {
     const std::int64_t limit =
         scene.max_steps > 0 ? start.steps + scene.max_steps : std::numeric_limits<std::int64_t>::max();
-    if (!scene.output_times.empty()) {
+    if (!scene.output_times.empty() && !observing) {
       const GridEvents events(std::span<const double>(times), scene.dt);
       halt = drive_grid(stepper, y, scene.dt, events, limit, c, summary, moved, row, monitor);
     } else {
-      const std::int64_t every = scene.output_every > 0 ? scene.output_every : std::int64_t{1} << 62;
+      const std::int64_t every = observing               ? 1
+                                 : scene.output_every > 0 ? scene.output_every
+                                                          : std::int64_t{1} << 62;
       const GridEvents events(every, scene.t_end, scene.dt);
       halt = drive_grid(stepper, y, scene.dt, events, limit, c, summary, moved, row, monitor);
     }
@@ -148,7 +228,10 @@ RunReport run_stepper(S& stepper, const P& problem, const Scene& scene, const Ru
     if (std::fwrite(h.data(), 1, h.size(), options.csv) != h.size()) report.write_failed = true;
   }
   const State<double>& x0 = scene.initial;
+  const auto from_state = [&stepper](const State<double>& x, double t) { return stepper.to_internal(x, t); };
+  Observation<S, decltype(from_state)> observation(stepper, from_state, scene.dt, !(scene.options.rtol > 0));
   auto row = [&](double t, const Internal* y) {
+    if (options.observer) observation.event(t, y, x0, *options.observer);
     if (!options.csv) return;
     const State<double> x = y ? stepper.to_state(*y) : x0;
     rows.add(t);
@@ -164,6 +247,7 @@ RunReport run_stepper(S& stepper, const P& problem, const Scene& scene, const Ru
   const auto inv0 = invariants_at(problem, 0.0, x0);
   Internal y = stepper.to_internal(x0, 0.0);
   const State<double> x = run_session(stepper, y, scene, options, row, rows, report) ? stepper.to_state(y) : x0;
+  if (options.observer) observation.finish(*options.observer);
   report.final_state = x;
   report.energy_final = energy_at(problem, report.summary.t, x);
   const auto inv1 = invariants_at(problem, report.summary.t, x);
@@ -252,7 +336,13 @@ RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& sc
     if (std::fwrite(h.data(), 1, h.size(), options.csv) != h.size()) report.write_failed = true;
   }
   const Vector y0 = problem.from_state(scene.initial);
+  // Side-steps and the shadow trajectory of an observed run step a copy: a step of theirs that leaves the domain
+  // does not mark the run.
+  EulerAngleSteps<Tableau> observed_steps{rk, problem};
+  const auto from_state = [&problem](const State<double>& x, double) { return problem.from_state(x); };
+  Observation<EulerAngleSteps<Tableau>, decltype(from_state)> observation(observed_steps, from_state, scene.dt, true);
   auto row = [&](double t, const Vector* v) {
+    if (options.observer) observation.event(t, v, scene.initial, *options.observer);
     if (!options.csv) return;
     const Vector& y = v ? *v : y0;
     const State<double> x = problem.to_state(y);
@@ -277,6 +367,10 @@ RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& sc
                  "same motion runs on SO(3) as problem.type heavy_top, or lower /problem/min_sin_theta)\n",
                  scene.file.c_str(), std::sin(value_of(y0[1])), format_number(problem.min_sin_theta).c_str());
     report.final_state = scene.initial;
+    if (options.observer) {  // observed: the initial state alone
+      observation.event(0.0, nullptr, scene.initial, *options.observer);
+      observation.finish(*options.observer);
+    }
     // The angle rates (hence the angle-form energy) are undefined at sin θ = 0: the energy of the same state
     // on SO(3) instead.
     report.energy_initial = report.energy_final = energy(problem.heavy_top(), scene.initial);
@@ -284,6 +378,7 @@ RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& sc
   }
   Vector y = y0;
   run_session(stepper, y, scene, options, row, rows, report);
+  if (options.observer) observation.finish(*options.observer);
   if (stepper.left && report.summary.status == RunStatus::step_failed) {
     // t_outside: the time of the rejected state (sin θ < min_sin_theta); the last admissible one is kept.
     report.summary.status = RunStatus::stopped;

@@ -6,8 +6,12 @@
 #include "json_reader.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
+#include "sweep_observe.hpp"
 
+#include <lgi/core/inertia.hpp>
+#include <lgi/core/invariants.hpp>
 #include <lgi/core/so3.hpp>
+#include <lgi/integrators/batch_lgvi.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -26,7 +30,10 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <span>
+#include <sstream>
 #include <thread>
+#include <variant>
 #include <vector>
 
 namespace lgi::app {
@@ -52,20 +59,14 @@ std::uint64_t splitmix64(std::uint64_t z) {
   return z ^ (z >> 31);
 }
 
-// Appends x as the runner's RowWriter writes it: std::to_chars, general, 17 significant digits.
-void append_number(std::string& out, double x) {
-  char buf[40];
-  const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, 17);
-  out.append(buf, r.ptr);
-}
-
 std::string hex64(std::uint64_t h) {
   char buf[20];
   std::snprintf(buf, sizeof buf, "%016" PRIx64, h);
   return buf;
 }
 
-enum class Record { status, final, invariants };
+enum class Record { status, final, invariants, extrema, lyapunov, crossings };
+constexpr const char* record_names[] = {"status", "final", "invariants", "extrema", "lyapunov", "crossings"};
 
 struct Key {
   std::string pointer;
@@ -82,9 +83,16 @@ struct Sweep {
   std::uint64_t seed = 0;
   std::int64_t members = 0;
   std::vector<Record> record;
+  ObserveSpec observe;  // what the members' runs record as they go (extrema, crossings, Lyapunov)
+  Scene scene0;         // member 0, loaded
   std::string header;  // without the newline
   std::uint64_t hash = 0;
+  bool records(Record r) const { return std::find(record.begin(), record.end(), r) != record.end(); }
 };
+
+// The crossings file's header (docs/sweep.md).
+constexpr const char* crossings_header =
+    "member,crossing,t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega1,omega2,omega3";
 
 // Member m's values, one per key.
 std::vector<double> member_values(const Sweep& s, std::int64_t m) {
@@ -182,6 +190,66 @@ std::vector<double> read_axis(const Node& node) {
   return values;
 }
 
+// The in-run sections of the sweep: /sweep/extrema, /sweep/section, /sweep/lyapunov (sweep_observe.hpp).
+void read_observe(const Node& sweep, const Scene& scene0, ObserveSpec& spec) {
+  const BodyData body = body_data(scene0);
+  const std::string type = std::visit([](const auto& p) { return std::string(p.name); }, scene0.problem);
+  const bool adaptive = scene0.options.rtol > 0;
+  if (const auto extrema = sweep.find("extrema")) {
+    if (!extrema->is_array() || extrema->size() == 0)
+      extrema->fail("expected a non-empty array of state functions (e.g. [\"tilt\", \"omega3\"]), got " +
+                    describe(extrema->value()));
+    for (std::size_t i = 0; i < extrema->size(); ++i) {
+      StateFunction f = read_state_function(extrema->at(i), body, type);
+      for (const StateFunction& g : spec.extrema)
+        if (g.name == f.name) extrema->at(i).fail(quoted_input(f.name) + " twice");
+      spec.extrema.push_back(std::move(f));
+    }
+  }
+  if (const auto section = sweep.find("section")) {
+    if (!section->is_object()) section->fail("expected {\"function\", \"value\", \"direction\"}, got " + describe(section->value()));
+    section->allow_only({"function", "value", "direction", "max_crossings"});
+    if (adaptive)
+      section->fail("crossings are located by side-steps of a fixed-step run: the scene's integrator has rtol and atol "
+                    "(adaptive steps)");
+    SectionSpec s;
+    s.f = read_state_function(section->at("function"), body, type);
+    s.value = section->at("value").number();
+    if (const auto d = section->find("direction")) {
+      const std::string dir = d->string();
+      if (dir == "increasing") s.direction = 1;
+      else if (dir == "decreasing") s.direction = -1;
+      else if (dir == "both") s.direction = 0;
+      else d->fail("expected \"increasing\", \"decreasing\" or \"both\", got " + quoted_input(dir));
+    }
+    if (const auto n = section->find("max_crossings")) s.max_crossings = n->integer(1, std::int64_t{1} << 53);
+    spec.section = s;
+  }
+  if (const auto lyapunov = sweep.find("lyapunov")) {
+    if (!lyapunov->is_object()) lyapunov->fail("expected an object ({} for the defaults), got " + describe(lyapunov->value()));
+    lyapunov->allow_only({"d0", "interval", "omega_scale"});
+    if (adaptive)
+      lyapunov->fail("the Lyapunov estimate steps a shadow trajectory with the run's fixed steps: the scene's "
+                     "integrator has rtol and atol (adaptive steps)");
+    LyapunovSpec l;
+    if (const auto d0 = lyapunov->find("d0")) {
+      l.d0 = d0->positive();
+      if (!(l.d0 <= 1e-3)) d0->fail("must be <= 1e-3 (a small displacement), got " + format_number(l.d0));
+    }
+    if (const auto interval = lyapunov->find("interval")) l.interval = interval->positive();
+    if (const auto scale = lyapunov->find("omega_scale")) l.omega_scale = scale->positive();
+    spec.lyapunov = l;
+  } else if (const auto record = sweep.find("record")) {
+    for (std::size_t i = 0; i < record->size(); ++i)
+      if (record->at(i).string() == "lyapunov") {
+        if (adaptive)
+          record->at(i).fail("the Lyapunov estimate steps a shadow trajectory with the run's fixed steps: the scene's "
+                             "integrator has rtol and atol (adaptive steps)");
+        spec.lyapunov = LyapunovSpec{};
+      }
+  }
+}
+
 Sweep read_sweep(const std::string& file) {
   Sweep s;
   s.file = file;
@@ -189,7 +257,7 @@ Sweep read_sweep(const std::string& file) {
   const Node root(document, "", file);
   if (!root.is_object()) root.fail("expected an object (a scene with a \"sweep\" section), got " + describe(document));
   const Node sweep = root.at("sweep");
-  sweep.allow_only({"grid", "random", "record"});
+  sweep.allow_only({"grid", "random", "record", "extrema", "section", "lyapunov"});
   s.scene = document;
   s.scene.erase("sweep");
   s.hash = fnv1a64(document.dump());
@@ -229,21 +297,39 @@ Sweep read_sweep(const std::string& file) {
     sweep.fail("give \"grid\" (values per JSON pointer) or \"random\" (seed, count, ranges)");
   }
 
+  // record: by default the three basic groups and each in-run group whose section the sweep gives.
   s.record = {Record::status, Record::final, Record::invariants};
+  if (sweep.find("extrema")) s.record.push_back(Record::extrema);
+  if (sweep.find("lyapunov")) s.record.push_back(Record::lyapunov);
+  if (sweep.find("section")) s.record.push_back(Record::crossings);
   if (const auto record = sweep.find("record")) {
     if (!record->is_array() || record->size() == 0)
-      record->fail("expected a non-empty array of \"status\", \"final\", \"invariants\", got " + describe(record->value()));
+      record->fail("expected a non-empty array of column groups (status, final, invariants, extrema, lyapunov, "
+                   "crossings), got " + describe(record->value()));
     s.record.clear();
     for (std::size_t i = 0; i < record->size(); ++i) {
       const Node r = record->at(i);
       const std::string name = r.string();
-      Record what = Record::status;
-      if (name == "final") what = Record::final;
-      else if (name == "invariants") what = Record::invariants;
-      else if (name != "status") r.fail("unknown column group " + quoted_input(name) + " (known: status, final, invariants)");
-      if (std::find(s.record.begin(), s.record.end(), what) != s.record.end()) r.fail(quoted_input(name) + " twice");
+      const auto known = std::find_if(std::begin(record_names), std::end(record_names),
+                                      [&](const char* n) { return name == n; });
+      if (known == std::end(record_names))
+        r.fail("unknown column group " + quoted_input(name) +
+               " (known: status, final, invariants, extrema, lyapunov, crossings)");
+      const auto what = static_cast<Record>(known - std::begin(record_names));
+      if (s.records(what)) r.fail(quoted_input(name) + " twice");
+      if (what == Record::extrema && !sweep.find("extrema"))
+        r.fail("\"extrema\" needs /sweep/extrema, the state functions (e.g. [\"tilt\", \"omega3\"])");
+      if (what == Record::crossings && !sweep.find("section"))
+        r.fail("\"crossings\" needs /sweep/section (e.g. {\"function\": \"gamma1\", \"value\": 0, \"direction\": \"increasing\"})");
       s.record.push_back(what);
     }
+    const auto recorded = [&](const char* key, Record what) {
+      if (const auto n = sweep.find(key); n && !s.records(what))
+        n->fail(std::string("given but not recorded: add \"") + record_names[static_cast<int>(what)] + "\" to /sweep/record");
+    };
+    recorded("extrema", Record::extrema);
+    recorded("lyapunov", Record::lyapunov);
+    recorded("section", Record::crossings);
   }
   if (const auto limits = root.find("limits"); limits && limits->is_object())
     if (const auto wall = limits->find("max_wall_seconds"))
@@ -252,7 +338,9 @@ Sweep read_sweep(const std::string& file) {
   // Every member is loaded again before it runs; here, before any output: member 0, and each value of each
   // grid axis (the others at member 0's) or each end of each random range — most bad values are caught now.
   const std::vector<double> v0 = member_values(s, 0);
-  const Scene scene0 = member_scene(s, v0, member_label(s, 0, v0));
+  s.scene0 = member_scene(s, v0, member_label(s, 0, v0));
+  const Scene& scene0 = s.scene0;
+  read_observe(sweep, scene0, s.observe);
   std::int64_t stride = 1;
   for (std::size_t k = s.keys.size(); k-- > 0;) {
     if (s.random) {
@@ -288,6 +376,10 @@ Sweep read_sweep(const std::string& file) {
         at = next == std::string::npos ? invariants.size() : next;
       }
     }
+    if (r == Record::extrema)
+      for (const StateFunction& f : s.observe.extrema) s.header += "," + f.name + "_min," + f.name + "_max";
+    if (r == Record::lyapunov) s.header += ",lyapunov,lyapunov_t";
+    if (r == Record::crossings) s.header += ",crossings";
   }
   return s;
 }
@@ -318,26 +410,38 @@ std::unique_ptr<AtomicOutput> open_output(const std::string& path) {
   }
 }
 
+// Commits the crossings file (if any), then the main file; when the main file cannot be committed, the crossings
+// file just renamed into place is removed again. false: failed, with the message on stderr.
+bool commit_outputs(AtomicOutput& out, const std::string& path, AtomicOutput* crossings) {
+  const std::string cpath = crossings_path(path);
+  if (crossings && !crossings->commit()) {
+    fail(exit_io_error, cpath + ": cannot write the crossings file: " + std::strerror(errno));
+    return false;
+  }
+  if (!out.commit()) {
+    fail(exit_io_error, path + ": cannot write the output file: " + std::strerror(errno));
+    if (crossings) std::remove(cpath.c_str());
+    return false;
+  }
+  return true;
+}
+
 enum class Outcome { completed, failed, stopped };
 
 struct MemberResult {
   std::string row;
+  std::string crossings;  // the member's rows of the crossings file
   Outcome outcome = Outcome::completed;
 };
 
-MemberResult run_member(const Sweep& s, std::int64_t m, const volatile std::sig_atomic_t* stop) {
-  const std::vector<double> v = member_values(s, m);
-  const Scene scene = member_scene(s, v, member_label(s, m, v));
-  RunOptions options;  // no rows, no progress, no checkpoints
-  options.stop = stop;
-  const RunReport r = run_scene(scene, options);
+// Member m's row (and crossing rows) from its run's report: the same for a member run by the runner and one run
+// in a batch (run_batch below).
+MemberResult member_result(const Sweep& s, std::int64_t m, const std::vector<double>& v, const RunReport& r,
+                           MemberObserver* observer) {
   MemberResult result;
   std::string& row = result.row;
   row = std::to_string(m);
-  for (const double x : v) {
-    row += ',';
-    append_number(row, x);
-  }
+  for (const double x : v) append_csv_number(row, x);
   const IntegrationSummary& summary = r.summary;
   if (summary.status == RunStatus::stopped) result.outcome = Outcome::stopped;
   else if (summary.status != RunStatus::completed) result.outcome = Outcome::failed;
@@ -352,41 +456,156 @@ MemberResult run_member(const Sweep& s, std::int64_t m, const volatile std::sig_
     }
     if (what == Record::final) {
       const State<double>& x = r.final_state;
-      row += ',';
-      append_number(row, summary.t);
+      append_csv_number(row, summary.t);
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          row += ',';
-          append_number(row, x.R(i, j));
-        }
-      for (int i = 0; i < 3; ++i) {
-        row += ',';
-        append_number(row, x.Omega(i));
-      }
-      row += ',';
-      append_number(row, r.energy_final);
-      row += ',';
-      append_number(row, so3::orthogonality_error(x.R));
-      for (const InvariantChange& inv : r.invariants) {
-        row += ',';
-        append_number(row, inv.final);
-      }
+        for (int j = 0; j < 3; ++j) append_csv_number(row, x.R(i, j));
+      for (int i = 0; i < 3; ++i) append_csv_number(row, x.Omega(i));
+      append_csv_number(row, r.energy_final);
+      append_csv_number(row, so3::orthogonality_error(x.R));
+      for (const InvariantChange& inv : r.invariants) append_csv_number(row, inv.final);
     }
     if (what == Record::invariants) {
-      row += ',';
-      append_number(row, relative_change(r.energy_initial, r.energy_final));
-      for (const InvariantChange& inv : r.invariants) {
-        row += ',';
-        append_number(row, relative_change(inv.initial, inv.final));
-      }
+      append_csv_number(row, relative_change(r.energy_initial, r.energy_final));
+      for (const InvariantChange& inv : r.invariants) append_csv_number(row, relative_change(inv.initial, inv.final));
     }
+    if (what == Record::extrema) observer->append_extrema(row);
+    if (what == Record::lyapunov) observer->append_lyapunov(row);
+    if (what == Record::crossings) observer->append_crossing_count(row);
   }
   row += '\n';
+  if (observer) result.crossings = std::move(observer->crossing_rows());
   return result;
 }
 
-std::string shard_line(std::int64_t i, std::int64_t n, std::int64_t members, std::uint64_t hash) {
-  return "# lgi sweep shard " + std::to_string(i) + "/" + std::to_string(n) + ": " + std::to_string(members) +
+MemberResult run_member(const Sweep& s, std::int64_t m, const volatile std::sig_atomic_t* stop) {
+  const std::vector<double> v = member_values(s, m);
+  Scene scene = member_scene(s, v, member_label(s, m, v));
+  // No rows are written: no side-steps to the scene's output times (the trajectory does not depend on them).
+  scene.output_times.clear();
+  scene.output_every = 0;
+  RunOptions options;  // no rows, no progress, no checkpoints
+  options.stop = stop;
+  std::optional<MemberObserver> observer;
+  if (s.observe.any()) {
+    observer.emplace(s.observe, body_data(scene), std::to_string(m) + ",");
+    options.observer = &*observer;
+  }
+  return member_result(s, m, v, run_scene(scene, options), observer ? &*observer : nullptr);
+}
+
+// ---- the batched path --------------------------------------------------------------------------------------
+// A sweep qualifies when every member is an LGVI run of the same heavy top or free body with diagonal J (the
+// kernel's condition; integrators/batch_lgvi.hpp) over the same whole number of steps, the members differing only
+// in their initial state and b: its keys are all under /initial/ or /problem/b, t_end is on the grid, no
+// limits.max_steps, nothing recorded during the run. Its members then run in blocks through
+// integrate_batch_lgvi, whose results equal the single-body Lgvi's bit for bit (tests/test_batch.cpp); the rows
+// are built from them exactly as from the runner's report (tests/test_cli_sweep.cpp compares the bytes with
+// --no-batch). Members longer than batch_max_steps run one by one, so that a signal still stops them within
+// 1024 steps; a block (≤ batch_block_work body-steps) runs to its end before a signal is seen.
+inline constexpr std::int64_t batch_max_steps = std::int64_t{1} << 20;
+inline constexpr std::int64_t batch_block_work = std::int64_t{1} << 22;
+
+// The number of steps of each member when the sweep qualifies for the batched path (0 otherwise; `why` says why).
+std::int64_t batch_steps(const Sweep& s, const Scene& scene0, std::string& why) {
+  const bool heavy = std::holds_alternative<HeavyTop<double>>(scene0.problem);
+  const bool free_body = std::holds_alternative<FreeBody<double>>(scene0.problem);
+  const auto no = [&](const std::string& reason) {
+    why = reason;
+    return std::int64_t{0};
+  };
+  if (scene0.method->traits.name != "lgvi") return no("the method is not lgvi");
+  if (!heavy && !free_body) return no("the problem is not heavy_top or free_body");
+  const Mat3<double>& J = heavy ? std::get<HeavyTop<double>>(scene0.problem).inertia
+                                : std::get<FreeBody<double>>(scene0.problem).inertia;
+  if (!Inertia<double>(J).diagonal) return no("the inertia tensor is not diagonal");
+  for (const Key& key : s.keys)
+    if (key.pointer.rfind("/initial/", 0) != 0 && !(heavy && key.pointer == "/problem/b"))
+      return no("the members differ in " + key.pointer + " (batched: /initial/... and /problem/b only)");
+  if (s.observe.any()) return no("the sweep records extrema, crossings or Lyapunov estimates during the run");
+  if (scene0.max_steps > 0) return no("the scene has limits.max_steps");
+  const lgi::detail::GridPoint end = lgi::detail::locate(0.0, scene0.dt, scene0.t_end);
+  if (!(scene0.t_end > 0) || !end.on_grid) return no("t_end is not a whole number of steps");
+  if (end.m > batch_max_steps) return no("the members take more than 2^20 steps each (one by one, signals stop them sooner)");
+  return end.m;
+}
+
+// Members k_begin … k_end − 1 of this shard (m = shard + k·shards) through the batched LGVI; results in k order.
+const char* kernel_name(int kernel) {
+  switch (static_cast<BatchKernel>(kernel)) {
+    case BatchKernel::baseline: return "baseline";
+    case BatchKernel::avx2: return "avx2";
+    case BatchKernel::per_body: return "per-body";
+    case BatchKernel::automatic: break;
+  }
+  return "none";
+}
+
+// `member` follows the member being loaded (a bad one throws), then names the block's first for the kernel.
+std::vector<MemberResult> run_batch(const Sweep& s, std::int64_t k_begin, std::int64_t k_end, std::int64_t shard,
+                                    std::int64_t shards, std::int64_t n_steps, BatchKernel& kernel, std::int64_t& member) {
+  const auto count = static_cast<std::size_t>(k_end - k_begin);
+  std::vector<std::vector<double>> values(count);
+  std::vector<Scene> scenes;
+  scenes.reserve(count);
+  BodyBatch batch(count);
+  std::vector<double> b;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::int64_t m = shard + (k_begin + static_cast<std::int64_t>(i)) * shards;
+    member = m;
+    values[i] = member_values(s, m);
+    scenes.push_back(member_scene(s, values[i], member_label(s, m, values[i])));
+    batch.set_state(i, scenes[i].initial);
+    if (const auto* top = std::get_if<HeavyTop<double>>(&scenes[i].problem)) b.push_back(top->b);
+  }
+  const Scene& scene0 = scenes.front();
+  const double dt = scene0.dt;
+  member = shard + k_begin * shards;
+  std::visit(
+      [&](const auto& problem) {
+        using P = std::decay_t<decltype(problem)>;
+        if constexpr (LgviBatchProblem<P>)
+          kernel = integrate_batch_lgvi(problem, batch, 0.0, dt, n_steps, scene0.options, BatchOptions{1},
+                                        std::span<const double>(b));
+        else
+          throw std::logic_error("lgi sweep: a batch of problem " + std::string(P::name));
+      },
+      scene0.problem);
+
+  std::vector<MemberResult> results;
+  results.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Scene& scene = scenes[i];
+    RunReport r;  // what run_scene reports for the same member (runner_impl.hpp, run_stepper and drive_grid)
+    r.summary.steps = batch.steps[i];
+    if (batch.status[i] == StepStatus::ok) {
+      r.summary.t = scene.t_end;
+    } else {
+      r.summary.status = RunStatus::step_failed;
+      r.summary.step_status = batch.status[i];
+      r.summary.t = static_cast<double>(batch.steps[i]) * dt;
+    }
+    r.final_state = batch.steps[i] > 0 ? batch.state(i) : scene.initial;  // not moved: the state as given
+    std::visit(
+        [&](const auto& problem) {
+          using P = std::decay_t<decltype(problem)>;
+          if constexpr (LgviBatchProblem<P>) {
+            r.energy_initial = energy_at(problem, 0.0, scene.initial);
+            r.energy_final = energy_at(problem, r.summary.t, r.final_state);
+            const auto inv0 = invariants_at(problem, 0.0, scene.initial);
+            const auto inv1 = invariants_at(problem, r.summary.t, r.final_state);
+            for (std::size_t j = 0; j < inv0.size(); ++j)
+              r.invariants.push_back({std::string(P::invariant_names[j]), inv0[j], inv1[j]});
+          }
+        },
+        scene.problem);
+    results.push_back(member_result(s, shard + (k_begin + static_cast<std::int64_t>(i)) * shards, values[i], r, nullptr));
+  }
+  return results;
+}
+
+// The first line of a part file; `what`: "" for the rows, " crossings" for the crossings.
+std::string shard_line(std::int64_t i, std::int64_t n, std::int64_t members, std::uint64_t hash, const char* what = "") {
+  return std::string("# lgi sweep") + what + " shard " + std::to_string(i) + "/" + std::to_string(n) + ": " + std::to_string(members) +
          " members, sweep " + hex64(hash) + ", lgi " + LGI_VERSION;
 }
 
@@ -403,6 +622,13 @@ bool parse_shard(const std::string& text, std::int64_t& i, std::int64_t& n) {
 }
 
 }  // namespace
+
+std::string crossings_path(const std::string& output) {
+  const std::string suffix = ".csv";
+  if (output.size() > suffix.size() && output.compare(output.size() - suffix.size(), suffix.size(), suffix) == 0)
+    return output.substr(0, output.size() - suffix.size()) + ".crossings.csv";
+  return output + ".crossings.csv";
+}
 
 double sweep_uniform(std::uint64_t seed, std::uint64_t member, const std::string& pointer) {
   const std::uint64_t x = splitmix64(seed ^ splitmix64(fnv1a64(pointer) ^ splitmix64(member)));
@@ -434,24 +660,51 @@ int sweep_command(const SweepCommandOptions& options) {
   if (sharded) head = shard_line(shard, shards, s.members, s.hash) + "\n";
   head += s.header + "\n";
   bool write_failed = std::fwrite(head.data(), 1, head.size(), f) != head.size();
+  // The crossings file beside it (when recorded), written and committed alongside.
+  std::unique_ptr<AtomicOutput> crossings_out;
+  std::FILE* cf = nullptr;
+  if (s.records(Record::crossings)) {
+    crossings_out = open_output(crossings_path(options.output));
+    if (!crossings_out) return exit_io_error;
+    cf = crossings_out->file();
+    std::string chead;
+    if (sharded) chead = shard_line(shard, shards, s.members, s.hash, " crossings") + "\n";
+    chead += std::string(crossings_header) + "\n";
+    write_failed = write_failed || std::fwrite(chead.data(), 1, chead.size(), cf) != chead.size();
+  }
 
   const auto start = std::chrono::steady_clock::now();
   std::atomic<std::int64_t> next{0};
   std::atomic<bool> abort{false};
   std::mutex mutex;  // guards everything below
-  std::map<std::int64_t, std::string> pending;  // finished rows waiting for the ones before them
+  std::map<std::int64_t, MemberResult> pending;  // finished rows waiting for the ones before them
   std::int64_t written = 0;
   std::int64_t outcomes[3] = {0, 0, 0};
   std::optional<std::pair<std::int64_t, std::string>> error;  // the lowest failing member seen, and its message
   int error_status = exit_bad_input;
+  // The batched path (run_batch) when the sweep qualifies and --no-batch is not given: blocks of members.
+  std::string why_not = "--no-batch";
+  const std::int64_t n_steps = options.batch ? batch_steps(s, s.scene0, why_not) : 0;
+  // Blocks of at most batch_block_work body-steps, at least 4 per thread when there are enough members.
+  const std::int64_t per_thread = (count + 4 * std::int64_t{threads} - 1) / (4 * std::int64_t{threads});
+  const std::int64_t block =
+      n_steps > 0 ? std::clamp<std::int64_t>(std::min(batch_block_work / n_steps, per_thread), 4, 1024) : 1;
+  std::atomic<int> kernel_used{-1};
   const auto work = [&] {
     for (;;) {
-      const std::int64_t k = next.fetch_add(1);
-      if (k >= count || abort.load() || (options.stop && *options.stop)) return;
-      const std::int64_t m = shard + k * shards;
-      MemberResult result;
+      const std::int64_t k0 = next.fetch_add(block);
+      if (k0 >= count || abort.load() || (options.stop && *options.stop)) return;
+      const std::int64_t k1 = std::min(count, k0 + block);
+      std::int64_t m = shard + k0 * shards;
+      std::vector<MemberResult> results;
       try {
-        result = run_member(s, m, options.stop);
+        if (n_steps > 0) {
+          BatchKernel kernel = BatchKernel::automatic;
+          results = run_batch(s, k0, k1, shard, shards, n_steps, kernel, m);
+          kernel_used = static_cast<int>(kernel);
+        } else {
+          results.push_back(run_member(s, m, options.stop));
+        }
       } catch (const std::exception& e) {
         const std::lock_guard lock(mutex);
         if (!error || m < error->first) {
@@ -462,10 +715,16 @@ int sweep_command(const SweepCommandOptions& options) {
         return;
       }
       const std::lock_guard lock(mutex);
-      ++outcomes[static_cast<int>(result.outcome)];
-      pending.emplace(k, std::move(result.row));
-      for (auto it = pending.begin(); it != pending.end() && it->first == written; it = pending.erase(it), ++written)
-        write_failed = write_failed || std::fwrite(it->second.data(), 1, it->second.size(), f) != it->second.size();
+      for (std::size_t i = 0; i < results.size(); ++i) {
+        ++outcomes[static_cast<int>(results[i].outcome)];
+        pending.emplace(k0 + static_cast<std::int64_t>(i), std::move(results[i]));
+      }
+      for (auto it = pending.begin(); it != pending.end() && it->first == written; it = pending.erase(it), ++written) {
+        const std::string& row = it->second.row;
+        write_failed = write_failed || std::fwrite(row.data(), 1, row.size(), f) != row.size();
+        const std::string& c = it->second.crossings;
+        if (cf && !c.empty()) write_failed = write_failed || std::fwrite(c.data(), 1, c.size(), cf) != c.size();
+      }
     }
   };
   std::vector<std::thread> workers;
@@ -485,15 +744,18 @@ int sweep_command(const SweepCommandOptions& options) {
     return fail(exit_bad_input, error->second);
   }
   if (write_failed || written != count) return fail(exit_io_error, options.output + ": write error");
-  if (!out->commit()) return fail(exit_io_error, options.output + ": cannot write the output file: " + std::strerror(errno));
+  if (!commit_outputs(*out, options.output, crossings_out.get())) return exit_io_error;
   if (!options.quiet) {
-    char buf[512];
+    char buf[1024];
     std::snprintf(buf, sizeof buf,
-                  "%s: %lld members%s, %u thread%s, %.3f s (%.1f members/s): %lld completed, %lld step failed, "
+                  "%s: %lld members%s, %u thread%s, %s, %.3f s (%.1f members/s): %lld completed, %lld step failed, "
                   "%lld stopped; %s\n",
                   options.sweep_file.c_str(), static_cast<long long>(s.members),
                   sharded ? (" (shard " + options.shard + ": " + std::to_string(count) + ")").c_str() : "", threads,
-                  threads == 1 ? "" : "s", seconds, seconds > 0 ? static_cast<double>(count) / seconds : 0.0,
+                  threads == 1 ? "" : "s",
+                  n_steps > 0 ? (std::string("batched LGVI (") + kernel_name(kernel_used.load()) + " kernel)").c_str()
+                              : ("member by member (not batched: " + why_not + ")").c_str(),
+                  seconds, seconds > 0 ? static_cast<double>(count) / seconds : 0.0,
                   static_cast<long long>(outcomes[0]), static_cast<long long>(outcomes[1]),
                   static_cast<long long>(outcomes[2]), options.output.c_str());
     std::fputs(buf, stderr);
@@ -510,6 +772,10 @@ int merge_command(const MergeCommandOptions& options) {
     std::string line, header;
     std::unique_ptr<std::ifstream> in;
     std::int64_t line_number = 2;
+    // the part's crossings file (when the sweep records crossings)
+    std::string cfile;
+    std::unique_ptr<std::ifstream> cin;
+    std::int64_t cline_number = 2;
   };
   std::vector<Part> parts;
   for (const std::string& file : options.parts) {
@@ -553,11 +819,47 @@ int merge_command(const MergeCommandOptions& options) {
   }
   std::sort(parts.begin(), parts.end(), [](const Part& a, const Part& b) { return a.i < b.i; });
 
+  // A sweep that records crossings has a "crossings" column (the member's count) and, beside each part, its
+  // crossings part: "# lgi sweep crossings shard ..." (the rest as the part's first line), the crossings header,
+  // then each member's crossing rows in member order.
+  const std::vector<std::string> columns = [&] {
+    std::vector<std::string> c;
+    std::string cell;
+    std::istringstream in(parts.front().header);
+    while (std::getline(in, cell, ',')) c.push_back(cell);
+    return c;
+  }();
+  const auto count_column = std::find(columns.begin(), columns.end(), "crossings");
+  const bool crossings = count_column != columns.end();
+  const std::size_t count_index = static_cast<std::size_t>(count_column - columns.begin());
+  if (crossings)
+    for (Part& p : parts) {
+      p.cfile = crossings_path(p.file);
+      p.cin = std::make_unique<std::ifstream>(p.cfile, std::ios::binary);
+      if (!*p.cin)
+        return fail(exit_bad_input, p.cfile + ": cannot read the crossings part of " + p.file + ": " + std::strerror(errno));
+      std::string line, header;
+      std::getline(*p.cin, line);
+      const std::string expected = "# lgi sweep crossings" + p.line.substr(std::string("# lgi sweep").size());
+      if (line != expected)
+        return fail(exit_bad_input, p.cfile + ":1: not the crossings part of " + p.file + " (expected \"" + expected + "\")");
+      if (!std::getline(*p.cin, header) || header != crossings_header)
+        return fail(exit_bad_input, p.cfile + ":2: expected the crossings header \"" + std::string(crossings_header) + "\"");
+    }
+
   const std::unique_ptr<AtomicOutput> out = open_output(options.output);
   if (!out) return exit_io_error;
   std::FILE* f = out->file();
   bool write_failed = std::fputs((parts.front().header + "\n").c_str(), f) < 0;
-  std::string row;
+  std::unique_ptr<AtomicOutput> crossings_out;
+  std::FILE* cf = nullptr;
+  if (crossings) {
+    crossings_out = open_output(crossings_path(options.output));
+    if (!crossings_out) return exit_io_error;
+    cf = crossings_out->file();
+    write_failed = write_failed || std::fputs((std::string(crossings_header) + "\n").c_str(), cf) < 0;
+  }
+  std::string row, crossing;
   for (std::int64_t m = 0; m < members; ++m) {
     Part& p = parts[static_cast<std::size_t>(m % n)];
     ++p.line_number;
@@ -565,14 +867,36 @@ int merge_command(const MergeCommandOptions& options) {
     if (!std::getline(*p.in, row) || row.compare(0, expected.size(), expected) != 0)
       return fail(exit_bad_input, p.file + ":" + std::to_string(p.line_number) + ": expected the row of member " +
                                       std::to_string(m) + (p.in->eof() ? ", the file ends (an unfinished shard?)" : ""));
+    if (crossings) {
+      // the member's crossing count, then as many rows of its crossings part
+      std::size_t at = 0;
+      for (std::size_t c = 0; c < count_index && at != std::string::npos; ++c) at = row.find(',', at) + 1;
+      const long long count = at != std::string::npos && at > 0 ? std::atoll(row.c_str() + at) : -1;
+      if (count < 0)
+        return fail(exit_bad_input, p.file + ":" + std::to_string(p.line_number) + ": no crossings count in the row");
+      for (long long k = 0; k < count; ++k) {
+        ++p.cline_number;
+        if (!std::getline(*p.cin, crossing) || crossing.compare(0, expected.size(), expected) != 0)
+          return fail(exit_bad_input, p.cfile + ":" + std::to_string(p.cline_number) + ": expected crossing " +
+                                          std::to_string(k) + " of member " + std::to_string(m) + " (" +
+                                          std::to_string(count) + " in " + p.file + ")" +
+                                          (p.cin->eof() ? ", the file ends (an unfinished shard?)" : ""));
+        crossing += '\n';
+        write_failed = write_failed || std::fwrite(crossing.data(), 1, crossing.size(), cf) != crossing.size();
+      }
+    }
     row += '\n';
     write_failed = write_failed || std::fwrite(row.data(), 1, row.size(), f) != row.size();
   }
-  for (Part& p : parts)
+  for (Part& p : parts) {
     if (std::getline(*p.in, row))
       return fail(exit_bad_input, p.file + ":" + std::to_string(p.line_number + 1) + ": a row after the shard's last member");
+    if (crossings && std::getline(*p.cin, row))
+      return fail(exit_bad_input, p.cfile + ":" + std::to_string(p.cline_number + 1) +
+                                      ": a crossing beyond those the part's rows count");
+  }
   if (write_failed) return fail(exit_io_error, options.output + ": write error");
-  if (!out->commit()) return fail(exit_io_error, options.output + ": cannot write the output file: " + std::strerror(errno));
+  if (!commit_outputs(*out, options.output, crossings_out.get())) return exit_io_error;
   if (!options.quiet)
     std::fprintf(stderr, "merged %lld members from %lld shards into %s\n", static_cast<long long>(members),
                  static_cast<long long>(n), options.output.c_str());

@@ -1,4 +1,4 @@
-// lgi/apps/sweep_command.hpp — `lgi sweep SWEEPFILE -o OUT.csv [--threads N] [--shard i/N] [-q]` and
+// lgi/apps/sweep_command.hpp — `lgi sweep SWEEPFILE -o OUT.csv [--threads N] [--shard i/N] [--no-batch] [-q]` and
 // `lgi merge PART... -o OUT.csv` (docs/sweep.md has the whole contract).
 //
 // A sweep file is a scene file (shared/DESIGN.md §3) plus a top-level "sweep" section:
@@ -8,7 +8,9 @@
 //                 "/problem/b": {"from": 0.5, "to": 2, "count": 4, "log": false} },
 //     or
 //     "random": { "seed": 7, "count": 1000, "ranges": { "/initial/omega/0": [-1, 1], ... } },
-//     "record": ["status", "final", "invariants"]                           default: all three, this order
+//     "record": ["status", "final", "invariants"]                           default: all three, this order, and
+//                                                                           each of the three below that is given
+//     "extrema": ["tilt", ...], "section": {...}, "lyapunov": {...}         records taken during the run
 //   }
 //
 // Members. Each key is a JSON pointer (RFC 6901) into the scene document that must name a number there.
@@ -32,7 +34,16 @@
 // <invariant>_rel_change, |final − initial| / |initial| (/ 1 when initial is 0). A member whose step fails is a
 // row with its status and last good state, not an error: the sweep exits 0 and the summary counts them.
 // Nothing in the CSV depends on the wall clock, the thread count or the shard: "limits.max_wall_seconds" is
-// refused in a sweep.
+// refused in a sweep. The scene's "output" is ignored (no rows: no side-steps to output times).
+//
+// Records taken during the run (sweep_observe.hpp): "extrema" (columns <f>_min, <f>_max), "lyapunov" (lyapunov,
+// lyapunov_t), "crossings" (the count; the crossings themselves go to crossings_path(OUT), one row each, in member
+// order, sharded and merged like the rows).
+//
+// The batched path (sweep_command.cpp, batch_steps): LGVI sweeps of one heavy top or free body with diagonal J,
+// the members differing only under /initial/ and in /problem/b, t_end a whole number (≤ 2^20) of steps, nothing
+// recorded during the run, run in blocks through integrate_batch_lgvi (integrators/batch_lgvi.hpp) — the same
+// bytes as member by member (--no-batch, SweepCommandOptions::batch = false).
 //
 // --threads N (0: all cores; default 1): workers take members in turn; rows are written in member order, so
 // the file is byte-identical for every N. --shard i/N runs the members m with m mod N = i and writes a part
@@ -59,6 +70,9 @@ struct SweepCommandOptions {
   int threads = 1;     // 0: std::thread::hardware_concurrency()
   std::string shard;   // "i/N"; empty: all members
   bool quiet = false;  // nothing on stderr but errors
+  // Run qualifying sweeps through the batched LGVI kernel (sweep_command.cpp, batch_steps); false: member by member
+  // (the same bytes; for comparison).
+  bool batch = true;
   // When *stop becomes non-zero (a signal number: `lgi` sets it on SIGINT and SIGTERM) the sweep stops — a
   // running member at its next monitor call (every 1024 steps), the others before they start — and exits
   // 128 + signal with nothing written: a partial sweep is not kept (rerun it, or run shards).
@@ -72,6 +86,10 @@ struct MergeCommandOptions {
 };
 
 int sweep_command(const SweepCommandOptions& options);
+
+// The crossings file written beside OUTPUT when a sweep records crossings: OUTPUT with its ".csv" replaced by
+// ".crossings.csv" (OUTPUT + ".crossings.csv" when it does not end in ".csv"). Part files have theirs too.
+std::string crossings_path(const std::string& output);
 int merge_command(const MergeCommandOptions& options);
 
 // The random sweep's uniform number in [0, 1) for (seed, member, pointer): splitmix64 (Steele, Lea & Flood,

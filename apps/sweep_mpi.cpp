@@ -1,6 +1,6 @@
 // lgi_sweep_mpi — `lgi sweep` across MPI ranks (optional: built when CMake finds MPI; docs/sweep.md "MPI").
 //
-//   mpirun -np N lgi_sweep_mpi SWEEPFILE -o OUT.csv [--threads T] [-q]
+//   mpirun -np N lgi_sweep_mpi SWEEPFILE -o OUT.csv [--threads T] [--no-batch] [-q]
 //
 // Rank r runs the members m with m mod N = r — exactly `lgi sweep --shard r/N`, through the same code — into a
 // part file in its temporary directory; the ranks send their parts' bytes to rank 0 (point to point, in chunks of
@@ -56,7 +56,7 @@ std::string receive_bytes(int from) {
 }
 
 int usage() {
-  std::fprintf(stderr, "usage: mpirun -np N lgi_sweep_mpi SWEEPFILE -o OUT.csv [--threads T] [-q]\n");
+  std::fprintf(stderr, "usage: mpirun -np N lgi_sweep_mpi SWEEPFILE -o OUT.csv [--threads T] [--no-batch] [-q]\n");
   return lgi::app::exit_bad_input;
 }
 
@@ -71,6 +71,7 @@ int run(int rank, int size, int argc, char** argv) {
       if (*end != '\0' || t < 0 || t > 4096) return rank == 0 ? lgi::app::fail(1, "--threads: expected 0 ... 4096") : 1;
       options.threads = static_cast<int>(t);
     } else if (a == "-q" || a == "--quiet") options.quiet = true;
+    else if (a == "--no-batch") options.batch = false;
     else if (options.sweep_file.empty() && !a.empty() && a[0] != '-') options.sweep_file = a;
     else return rank == 0 ? usage() : 1;
   }
@@ -102,12 +103,18 @@ int run(int rank, int size, int argc, char** argv) {
   if (failed != statuses.end()) {
     if (failed - statuses.begin() == rank) std::fputs(said.c_str(), stderr);
     std::remove(part.c_str());
+    std::remove(lgi::app::crossings_path(part).c_str());
     return *failed;
   }
 
+  // A sweep that records crossings has a crossings part beside each part (sweep_command.hpp, crossings_path): sent
+  // as a second message (empty when there is none).
+  const std::string crossings = lgi::app::crossings_path(part);
   if (rank != 0) {
     send_bytes(slurp(part), 0);
+    send_bytes(fs::exists(crossings) ? slurp(crossings) : std::string(), 0);
     std::remove(part.c_str());
+    std::remove(crossings.c_str());
     return 0;
   }
   lgi::app::MergeCommandOptions merge;
@@ -116,11 +123,16 @@ int run(int rank, int size, int argc, char** argv) {
   for (int r = 1; r < size; ++r) {
     const std::string path = tmp.string() + ".from_" + std::to_string(r) + ".part";
     std::ofstream(path, std::ios::binary) << receive_bytes(r);
+    const std::string c = receive_bytes(r);
+    if (!c.empty()) std::ofstream(lgi::app::crossings_path(path), std::ios::binary) << c;
     merge.parts.push_back(path);
   }
   merge.quiet = true;
   const int merged = lgi::app::merge_command(merge);
-  for (const std::string& p : merge.parts) std::remove(p.c_str());
+  for (const std::string& p : merge.parts) {
+    std::remove(p.c_str());
+    std::remove(lgi::app::crossings_path(p).c_str());
+  }
   if (merged == 0 && !quiet)
     std::fprintf(stderr, "%s: %d ranks, merged into %s\n", sweep_file.c_str(), size, output.c_str());
   return merged;

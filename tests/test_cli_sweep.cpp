@@ -27,13 +27,7 @@ namespace {
 using lgi::test::CommandResult;
 using lgi::test::slurp;
 
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string cell;
-  std::istringstream in(s);
-  while (std::getline(in, cell, sep)) out.push_back(cell);
-  return out;
-}
+using lgi::test::split;
 
 std::vector<std::string> lines_of(const std::string& text) { return split(text, '\n'); }
 
@@ -45,6 +39,11 @@ std::string heavy_top_sweep(const std::string& sweep) {
              "integrator": {"method": "lgvi", "dt": 0.01}, "t_end": 0.1)" +
          (sweep.empty() ? std::string() : ", \"sweep\": " + sweep) + "}";
 }
+
+// In-run records for the heavy top of heavy_top_sweep over t_end = 0.1: its body axes turn at |Ω| ≈ 5 rad/s, so
+// R11 = cos(5t) … crosses 0.9 once in 0.1 s; extrema of the tilt and of ω3, a Lyapunov estimate.
+const char* const observed_records = R"("extrema": ["tilt", "omega3"], "lyapunov": {"interval": 0.02},
+                                        "section": {"function": "R11", "value": 0.99, "direction": "both"})";
 
 class CliSweep : public lgi::test::CommandTest {
  protected:
@@ -210,6 +209,91 @@ TEST_F(CliSweep, MemberRowIsTheLastRowOfLgiRun) {
   EXPECT_NEAR(std::strtod(failed[4].c_str(), nullptr), 0.1 * std::strtod(failed[3].c_str(), nullptr), 1e-9);
 }
 
+// In-run records (extrema, a Lyapunov estimate, crossings) do not change a member's trajectory: its status and final
+// columns are those of the same sweep without them, byte for byte. The header; the crossings file: one row per
+// crossing with the member, its index and the state, each on the section (R11 = 0.99 to rounding), in time order,
+// as many as the member's count; the extrema bracket the initial value; the Lyapunov estimate covers the run.
+TEST_F(CliSweep, InRunRecordsLeaveTheTrajectoryAlone) {
+  const std::string grid = R"({"grid": {"/initial/omega/0": [0.1, -0.7, 2], "/integrator/dt": [0.01, 0.0125]}, )";
+  write("plain.json", heavy_top_sweep(grid + R"("record": ["status", "final"]})"));
+  write("observed.json", heavy_top_sweep(grid + R"("record": ["status", "final", "extrema", "lyapunov", "crossings"], )" +
+                                         observed_records + "}"));
+  ASSERT_EQ(sweep("plain.json", "plain.csv").status, 0);
+  const CommandResult r = sweep("observed.json", "observed.csv");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto plain = lines_of(read("plain.csv")), observed = lines_of(read("observed.csv"));
+  ASSERT_EQ(plain.size(), 7u);
+  ASSERT_EQ(observed.size(), 7u);
+  EXPECT_EQ(observed[0], plain[0] + ",tilt_min,tilt_max,omega3_min,omega3_max,lyapunov,lyapunov_t,crossings");
+  const auto crossings = lines_of(read("observed.crossings.csv"));
+  ASSERT_GE(crossings.size(), 1u);
+  EXPECT_EQ(crossings[0], "member,crossing,t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega1,omega2,omega3");
+  std::size_t next = 1;
+  for (std::size_t m = 1; m < plain.size(); ++m) {
+    EXPECT_EQ(observed[m].substr(0, plain[m].size() + 1), plain[m] + ",") << m;
+    const auto cells = split(observed[m], ',');
+    ASSERT_EQ(cells.size(), split(plain[m], ',').size() + 7);
+    const auto at = [&](std::size_t from_end) { return std::strtod(cells[cells.size() - from_end].c_str(), nullptr); };
+    // tilt at t = 0: the angle between R z0 = e3 and k = (0, 0.6, 0.8)
+    EXPECT_LE(at(7), std::acos(0.8) + 1e-15);
+    EXPECT_GE(at(6), std::acos(0.8) - 1e-15);
+    EXPECT_LE(at(5), 5.0);  // omega3
+    EXPECT_GE(at(4), 5.0);
+    EXPECT_NEAR(at(2), 0.1, 1e-12);  // lyapunov_t: the whole run
+    EXPECT_TRUE(std::isfinite(at(3)));
+    const long count = std::strtol(cells.back().c_str(), nullptr, 10);
+    EXPECT_EQ(count, 1) << observed[m];  // R11 ≈ cos(5t) passes 0.99 once in 0.1 s
+    double t_last = 0;
+    for (long k = 0; k < count; ++k, ++next) {
+      ASSERT_LT(next, crossings.size());
+      const auto c = split(crossings[next], ',');
+      ASSERT_EQ(c.size(), 15u) << crossings[next];
+      EXPECT_EQ(c[0], std::to_string(m - 1));
+      EXPECT_EQ(c[1], std::to_string(k));
+      const double t = std::strtod(c[2].c_str(), nullptr);
+      EXPECT_GT(t, t_last);
+      EXPECT_LE(t, 0.1);
+      t_last = t;
+      EXPECT_NEAR(std::strtod(c[3].c_str(), nullptr), 0.99, 1e-15) << crossings[next];
+    }
+  }
+  EXPECT_EQ(next, crossings.size());  // no rows beyond the members' counts
+
+  // The same for an adaptive run (extrema at the accepted steps) and the seed paper's Euler-angle top (its own
+  // runner path), with the scene's own output times, which a sweep ignores.
+  const std::vector<std::pair<std::string, std::string>> others = {
+      {R"({"problem": {"type": "heavy_top", "inertia": [0.6, 0.8, 1.0], "b": 1}, "initial": {"omega": [1, 0.5, 2]},
+           "integrator": {"method": "rkmk_dp5", "dt": 0.1, "rtol": 1e-9, "atol": 1e-9}, "t_end": 3,
+           "output": {"times": [0.5, 1.25]},)",
+       R"({"grid": {"/initial/omega/1": [0.5, -1]}, "extrema": ["omega1", "tilt"]})"},
+      {R"({"problem": {"type": "lagrange_top_euler_angles", "I2": 2, "I3": 1, "b": 1, "k2": 0.6, "k3": 0.8},
+           "initial": {"euler_angles": [0.1, 0.5, 0.2], "euler_rates": [0.3, 0.1, 4]},
+           "integrator": {"method": "rkmk4", "dt": 0.01}, "t_end": 2.005, "output": {"every": 7},)",
+       R"({"grid": {"/initial/euler_rates/2": [4, 6]}, "extrema": ["tilt", "gamma2"]})"},
+  };
+  for (const auto& [scene, sweep_section] : others) {
+    SCOPED_TRACE(scene);
+    std::string plain_sweep = sweep_section;
+    plain_sweep.replace(plain_sweep.find(", \"extrema\""), std::string::npos, ", \"record\": [\"status\", \"final\"]}");
+    std::string observed_sweep = sweep_section;
+    observed_sweep.insert(observed_sweep.size() - 1, R"(, "record": ["status", "final", "extrema"])");
+    write("plain.json", scene + R"( "sweep": )" + plain_sweep + "}");
+    write("observed.json", scene + R"( "sweep": )" + observed_sweep + "}");
+    ASSERT_EQ(sweep("plain.json", "plain.csv").status, 0);
+    const CommandResult o = sweep("observed.json", "observed.csv");
+    ASSERT_EQ(o.status, 0) << o.err;
+    const auto p = lines_of(read("plain.csv")), q = lines_of(read("observed.csv"));
+    ASSERT_EQ(p.size(), 3u);
+    ASSERT_EQ(q.size(), 3u);
+    for (std::size_t m = 1; m < 3; ++m) {
+      EXPECT_EQ(q[m].substr(0, p[m].size() + 1), p[m] + ",") << m;
+      const auto cells = split(q[m], ',');
+      const auto lo = std::strtod(cells[cells.size() - 4].c_str(), nullptr), hi = std::strtod(cells[cells.size() - 3].c_str(), nullptr);
+      EXPECT_LT(lo, hi);  // the first function moved during the run
+    }
+  }
+}
+
 // The same bytes whatever the number of threads (members of different cost: dt varies 5-fold).
 TEST_F(CliSweep, ThreadCountDoesNotChangeTheBytes) {
   write("grid.json", heavy_top_sweep(R"({"grid": {"/integrator/dt": {"from": 0.002, "to": 0.01, "count": 5},
@@ -222,27 +306,50 @@ TEST_F(CliSweep, ThreadCountDoesNotChangeTheBytes) {
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(read("t" + t + ".csv"), serial) << "--threads " << t;
   }
+  // The same with in-run records: the rows and the crossings file.
+  write("observed.json", heavy_top_sweep(std::string(R"({"grid": {"/integrator/dt": {"from": 0.002, "to": 0.01, "count": 5},
+                                                  "/initial/omega/1": [-0.3, 0, 0.3], "/problem/b": [0.5, 1]}, )") +
+                                         observed_records + "}"));
+  ASSERT_EQ(sweep("observed.json", "o1.csv", "--threads 1").status, 0);
+  const std::string rows = read("o1.csv"), crossings = read("o1.crossings.csv");
+  EXPECT_EQ(lines_of(crossings).size(), 31u);  // the header and one crossing per member
+  for (const std::string t : {"2", "3"}) {
+    ASSERT_EQ(sweep("observed.json", "o" + t + ".csv", "--threads " + t).status, 0);
+    EXPECT_EQ(read("o" + t + ".csv"), rows) << "--threads " << t;
+    EXPECT_EQ(read("o" + t + ".crossings.csv"), crossings) << "--threads " << t;
+  }
 }
 
-// SIGTERM during a sweep (40 members of 1e7 LGVI steps each, over a second per member; the signal comes after 1 s):
-// exit 128 + 15, one line on stderr, and nothing written — no output, no temporary file.
+// SIGTERM during a sweep, the signal after 1 s: exit 128 + 15, one line on stderr, and nothing written — no output,
+// no temporary file. Member by member (40 members of 1e7 LGVI steps, over a second each: 1e7 > 2^20 steps keeps
+// them off the batched path) and batched (400 members of 1e6 steps in blocks of 4, ~0.1 s a block; ~90 s in all).
 TEST_F(CliSweep, InterruptedSweepWritesNothing) {
-  write("long.json", R"({"problem": {"type": "heavy_top", "inertia": [2.0, 2.0, 1.0], "b": 1.0},
-                         "initial": {"omega": [0.1, 0.2, 5.0]}, "integrator": {"method": "lgvi", "dt": 0.001},
-                         "t_end": 10000.0, "sweep": {"grid": {"/problem/b": {"from": 0.5, "to": 1.5, "count": 40}}}})");
-  const fs::path err = fs::temp_directory_path() / ("lgi_sweep_interrupted_" + std::to_string(::getpid()) + ".txt");
-  const std::string cmd = std::string(LGI_EXE) + " sweep " + (dir_ / "long.json").string() + " -o " +
-                          (dir_ / "out.csv").string() + " --threads 2 2> " + err.string() +
-                          " & pid=$!; sleep 1; kill -TERM $pid; wait $pid";
-  const int raw = std::system(cmd.c_str());
-  const std::string message = slurp(err);
-  fs::remove(err);
-  ASSERT_TRUE(WIFEXITED(raw));
-  EXPECT_EQ(WEXITSTATUS(raw), 128 + 15) << message;
-  EXPECT_NE(message.find("interrupted by SIGTERM"), std::string::npos) << message;
-  EXPECT_NE(message.find("nothing written"), std::string::npos) << message;
-  EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
-  expect_only({"long.json"});
+  const std::string scene = R"({"problem": {"type": "heavy_top", "inertia": [2.0, 2.0, 1.0], "b": 1.0},
+                               "initial": {"omega": [0.1, 0.2, 5.0]}, "integrator": {"method": "lgvi", "dt": 0.001},)";
+  write("long.json", scene + R"("t_end": 10000.0, "sweep": {"grid": {"/problem/b": {"from": 0.5, "to": 1.5, "count": 40}}}})");
+  write("batched.json", scene + R"("t_end": 1000.0, "sweep": {"grid": {"/problem/b": {"from": 0.5, "to": 1.5, "count": 400}}}})");
+  for (const std::string file : {"long.json", "batched.json"}) {
+    SCOPED_TRACE(file);
+    const fs::path err = fs::temp_directory_path() / ("lgi_sweep_interrupted_" + std::to_string(::getpid()) + ".txt");
+    const std::string cmd = std::string(LGI_EXE) + " sweep " + (dir_ / file).string() + " -o " +
+                            (dir_ / "out.csv").string() + " --threads 2 2> " + err.string() +
+                            " & pid=$!; sleep 1; kill -TERM $pid; wait $pid";
+    const int raw = std::system(cmd.c_str());
+    const std::string message = slurp(err);
+    fs::remove(err);
+    ASSERT_TRUE(WIFEXITED(raw));
+    EXPECT_EQ(WEXITSTATUS(raw), 128 + 15) << message;
+    EXPECT_NE(message.find("interrupted by SIGTERM"), std::string::npos) << message;
+    EXPECT_NE(message.find("nothing written"), std::string::npos) << message;
+    EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
+    // stopped where it was: "after K of N members" with K < N (ignoring the signal until the end would give N of N)
+    const auto after = message.find(" after ");
+    ASSERT_NE(after, std::string::npos) << message;
+    long done = -1, total = -1;
+    ASSERT_EQ(std::sscanf(message.c_str() + after, " after %ld of %ld members", &done, &total), 2) << message;
+    EXPECT_LT(done, total) << message;
+    expect_only({"long.json", "batched.json"});
+  }
 }
 
 // --shard i/3 parts merged (in any order) are the serial run's file byte for byte; so are 7 shards of 30
@@ -272,6 +379,25 @@ TEST_F(CliSweep, ShardsMergeToTheSerialBytes) {
   }
   ASSERT_EQ(lgi("merge " + parts + "-o " + (dir_ / "merged7.csv").string()).status, 0);
   EXPECT_EQ(read("merged7.csv"), serial);
+
+  // In-run records: each part has its crossings part beside it; merged, both files are the serial run's.
+  write("observed.json", heavy_top_sweep(std::string(R"({"grid": {"/initial/omega/0": {"from": -1, "to": 1, "count": 10},
+                                                  "/problem/b": [0.5, 1, 2]}, )") + observed_records + "}"));
+  ASSERT_EQ(sweep("observed.json", "oserial.csv").status, 0);
+  ASSERT_EQ(lines_of(read("oserial.crossings.csv")).size(), 31u);  // the header and one crossing per member
+  parts.clear();
+  for (int i = 0; i < 4; ++i) {
+    const std::string part = "o" + std::to_string(i) + ".csv";
+    ASSERT_EQ(sweep("observed.json", part, "--threads 2 --shard " + std::to_string(i) + "/4").status, 0);
+    EXPECT_EQ(lines_of(read("o" + std::to_string(i) + ".crossings.csv"))[0].rfind("# lgi sweep crossings shard " +
+                                                                                  std::to_string(i) + "/4: 30 members", 0),
+              0u);
+    parts += (dir_ / part).string() + " ";
+  }
+  const CommandResult mo = lgi("merge " + parts + "-o " + (dir_ / "omerged.csv").string());
+  ASSERT_EQ(mo.status, 0) << mo.err;
+  EXPECT_EQ(read("omerged.csv"), read("oserial.csv"));
+  EXPECT_EQ(read("omerged.crossings.csv"), read("oserial.crossings.csv"));
 }
 
 // One bad thing at a time: exit 1, one line on stderr naming it, no output file.
@@ -296,7 +422,25 @@ TEST_F(CliSweep, BadSweepFilesAreRefusedWithoutOutput) {
        "/sweep/random/count: expected an integer from 1 to 10000000, got 0"},
       {R"({"random": {"seed": 1, "count": 5, "ranges": {"/problem/b": [2, 1]}}})", "", "expected lo <= hi"},
       {R"({"grid": {"/problem/b": [1]}, "random": {"seed": 1, "count": 5, "ranges": {}}})", "", "not both"},
-      {R"({"grid": {"/problem/b": [1]}, "record": ["final", "lyapunov"]})", "", "/sweep/record/1: unknown column group"},
+      {R"({"grid": {"/problem/b": [1]}, "record": ["final", "lyapunovv"]})", "", "/sweep/record/1: unknown column group"},
+      // in-run records
+      {R"({"grid": {"/problem/b": [1]}, "extrema": ["spin"]})", "", "/sweep/extrema/0: unknown state function \"spin\""},
+      {R"({"grid": {"/problem/b": [1]}, "extrema": ["tilt", "tilt"]})", "", "/sweep/extrema/1: \"tilt\" twice"},
+      {R"({"grid": {"/problem/b": [1]}, "extrema": []})", "", "/sweep/extrema: expected a non-empty array"},
+      {R"({"grid": {"/problem/b": [1]}, "record": ["status", "extrema"]})", "",
+       "/sweep/record/1: \"extrema\" needs /sweep/extrema"},
+      {R"({"grid": {"/problem/b": [1]}, "record": ["crossings"]})", "", "/sweep/record/0: \"crossings\" needs /sweep/section"},
+      {R"({"grid": {"/problem/b": [1]}, "record": ["status"], "extrema": ["tilt"]})", "",
+       "/sweep/extrema: given but not recorded: add \"extrema\" to /sweep/record"},
+      {R"({"grid": {"/problem/b": [1]}, "record": ["status"], "lyapunov": {}})", "",
+       "/sweep/lyapunov: given but not recorded"},
+      {R"({"grid": {"/problem/b": [1]}, "section": {"function": "gamma1", "value": 0, "direction": "up"}})", "",
+       "/sweep/section/direction: expected \"increasing\", \"decreasing\" or \"both\", got \"up\""},
+      {R"({"grid": {"/problem/b": [1]}, "section": {"function": "gamma1"}})", "", "/sweep/section: missing key \"value\""},
+      {R"({"grid": {"/problem/b": [1]}, "section": {"function": "gamma1", "value": 0, "every": 2}})", "",
+       "/sweep/section/every: unknown key (allowed: function, value, direction, max_crossings)"},
+      {R"({"grid": {"/problem/b": [1]}, "lyapunov": {"d0": 0.1}})", "", "/sweep/lyapunov/d0: must be <= 1e-3"},
+      {R"({"grid": {"/problem/b": [1]}, "lyapunov": {"interval": 0}})", "", "/sweep/lyapunov/interval: "},
       // a member the loader refuses: named with its values and the scene's pointer
       {R"({"grid": {"/problem/b": [1, -1], "/initial/omega/0": [0, 1]}})", "",
        "(member 1: /initial/omega/0 = 0, /problem/b = -1): /problem/b: must be >= 0, got -1"},
@@ -322,6 +466,26 @@ TEST_F(CliSweep, BadSweepFilesAreRefusedWithoutOutput) {
   EXPECT_NE(r.err.find("/limits/max_wall_seconds: a sweep's rows may not depend on the machine's speed"),
             std::string::npos)
       << r.err;
+  // gravity's functions on a free body; crossings and Lyapunov estimates on an adaptive run
+  const std::string body = R"({"problem": {"type": "free_body", "inertia": [1, 2, 3]}, "initial": {"omega": [1, 1, 1]},
+                               "integrator": {"method": "rkmk_dp5", "dt": 0.1, "rtol": 1e-8, "atol": 1e-8}, "t_end": 1,)";
+  const std::vector<Case> body_cases = {
+      {R"({"grid": {"/t_end": [1]}, "extrema": ["omega1", "gamma3"]})", "",
+       "/sweep/extrema/1: gamma3 needs a top (a problem with gravity k and centre of mass z0"},
+      {R"({"grid": {"/t_end": [1]}, "section": {"function": "omega1", "value": 0}})", "",
+       "/sweep/section: crossings are located by side-steps of a fixed-step run"},
+      {R"({"grid": {"/t_end": [1]}, "record": ["lyapunov"]})", "",
+       "/sweep/record/0: the Lyapunov estimate steps a shadow trajectory with the run's fixed steps"},
+  };
+  for (const Case& c : body_cases) {
+    SCOPED_TRACE(c.sweep);
+    write("bad.json", body + R"( "sweep": )" + c.sweep + "}");
+    const CommandResult refused = sweep("bad.json", "out.csv", c.args);
+    EXPECT_EQ(refused.status, 1);
+    EXPECT_NE(refused.err.find(c.message), std::string::npos) << refused.err;
+    EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << refused.err;
+    expect_only({"bad.json", "wall.json"});
+  }
   write("nosweep.json", heavy_top_sweep(""));
   EXPECT_EQ(sweep("nosweep.json", "out.csv").status, 1);
   EXPECT_FALSE(fs::exists(dir_ / "out.csv"));
@@ -360,6 +524,116 @@ TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {
   }
   ASSERT_EQ(lgi("merge " + p("a1.csv") + p("a0.csv") + p("a2.csv") + "-o " + (dir_ / "merged.csv").string()).status, 0);
   EXPECT_EQ(read("merged.csv"), read("serial.csv"));
+
+  // With crossings: a part without its crossings part, or with one cut short or of another shard.
+  write("c.json", heavy_top_sweep(std::string(R"({"grid": {"/problem/b": [0.5, 1, 1.5, 2, 2.5]}, )") + observed_records + "}"));
+  for (int i = 0; i < 2; ++i)
+    ASSERT_EQ(sweep("c.json", "c" + std::to_string(i) + ".csv", "--shard " + std::to_string(i) + "/2").status, 0);
+  const std::string c1 = read("c1.crossings.csv");
+  fs::remove(dir_ / "c1.crossings.csv");
+  const auto refused = [&](const std::string& parts, const std::string& message) {
+    SCOPED_TRACE(parts);
+    const CommandResult r = lgi("merge " + parts + "-o " + (dir_ / "cmerged.csv").string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "cmerged.csv"));
+    EXPECT_FALSE(fs::exists(dir_ / "cmerged.crossings.csv"));
+  };
+  refused(p("c0.csv") + p("c1.csv"), "c1.crossings.csv: cannot read the crossings part of");
+  write("c1.crossings.csv", c1.substr(0, c1.rfind('\n', c1.size() - 2) + 1));  // its last crossing gone
+  refused(p("c0.csv") + p("c1.csv"), "c1.crossings.csv:4: expected crossing 0 of member 3 (1 in ");
+  write("c1.crossings.csv", c1 + c1.substr(c1.rfind('\n', c1.size() - 2) + 1));  // one too many
+  refused(p("c0.csv") + p("c1.csv"), "c1.crossings.csv:5: a crossing beyond those the part's rows count");
+  write("c1.crossings.csv", read("c0.crossings.csv"));  // shard 0's
+  refused(p("c0.csv") + p("c1.csv"), "c1.crossings.csv:1: not the crossings part of");
+  write("c1.crossings.csv", c1);
+  const CommandResult ok = lgi("merge " + p("c0.csv") + p("c1.csv") + "-o " + (dir_ / "cmerged.csv").string());
+  ASSERT_EQ(ok.status, 0) << ok.err;
+  ASSERT_EQ(sweep("c.json", "cserial.csv").status, 0);
+  EXPECT_EQ(read("cmerged.csv"), read("cserial.csv"));
+  EXPECT_EQ(read("cmerged.crossings.csv"), read("cserial.crossings.csv"));
+}
+
+// A sweep that qualifies for the batched LGVI kernel — a heavy top with diagonal J, members differing in Ω0 and b,
+// t_end a whole number of steps — writes the bytes of the member-by-member run (--no-batch): members that complete,
+// that fail at their first step (the row holds the initial state) and that fail mid-run (steps 1 … 4 of 50); with
+// 1 and 3 threads and in 3 shards merged; the summary says which path ran. Sweeps that do not qualify say why.
+TEST_F(CliSweep, BatchedKernelWritesTheMemberByMemberBytes) {
+  const std::string top = R"({"problem": {"type": "heavy_top", "inertia": [2.0, 2.0, 1.0], "b": 1.0, "k": [0.0, 0.6, 0.8],
+                                          "z0": [0.0, 0.0, 1.0]},
+                              "initial": {"omega": [0.1, 0.2, 5.0]}, "integrator": {"method": "lgvi", "dt": DT},
+                              "t_end": 5, "sweep": )";
+  const auto with_dt = [&](const std::string& dt, const std::string& sweep_section) {
+    std::string doc = top + sweep_section + "}";
+    doc.replace(doc.find("DT"), 2, dt);
+    return doc;
+  };
+  write("grid.json", with_dt("0.1", R"({"grid": {"/problem/b": [0.5, 30, 65, 120], "/initial/omega/2": [3, 8, 12],
+                                                  "/initial/omega/0": {"from": -1, "to": 1, "count": 7}}})"));
+  const CommandResult batched = sweep("grid.json", "batched.csv");
+  ASSERT_EQ(batched.status, 0) << batched.err;
+  EXPECT_NE(batched.err.find("batched LGVI ("), std::string::npos) << batched.err;
+  const CommandResult single = sweep("grid.json", "single.csv", "--no-batch");
+  ASSERT_EQ(single.status, 0) << single.err;
+  EXPECT_NE(single.err.find("member by member (not batched: --no-batch)"), std::string::npos) << single.err;
+  const std::string bytes = read("single.csv");
+  EXPECT_EQ(read("batched.csv"), bytes);
+  int completed = 0, at_once = 0, mid_run = 0;
+  for (const auto& line : lines_of(bytes)) {
+    const auto cells = split(line, ',');
+    if (cells[4] == "completed") ++completed;
+    else if (cells[4] == "not_converged" && cells[5] == "0") ++at_once;
+    else if (cells[4] == "not_converged") ++mid_run;
+  }
+  EXPECT_GT(completed, 0);
+  EXPECT_GT(at_once, 0);
+  EXPECT_GT(mid_run, 0);
+  ASSERT_EQ(sweep("grid.json", "t3.csv", "--threads 3").status, 0);
+  EXPECT_EQ(read("t3.csv"), bytes);
+  std::string parts;
+  for (int i = 0; i < 3; ++i) {
+    const std::string part = "p" + std::to_string(i) + ".csv";
+    ASSERT_EQ(sweep("grid.json", part, "--threads 2 --shard " + std::to_string(i) + "/3").status, 0);
+    parts += (dir_ / part).string() + " ";
+  }
+  ASSERT_EQ(lgi("merge " + parts + "-o " + (dir_ / "merged.csv").string()).status, 0);
+  EXPECT_EQ(read("merged.csv"), bytes);
+
+  struct Case {
+    std::string file, message;
+  };
+  const std::vector<Case> not_batched = {
+      {with_dt("0.3", R"({"grid": {"/problem/b": [1, 2]}})"), "t_end is not a whole number of steps"},
+      {with_dt("0.1", R"({"grid": {"/integrator/dt": [0.1, 0.05]}})"), "the members differ in /integrator/dt"},
+      {with_dt("0.1", R"({"grid": {"/problem/b": [1, 2]}, "extrema": ["tilt"]})"), "the sweep records extrema, crossings or Lyapunov"},
+  };
+  for (const Case& c : not_batched) {
+    write("nb.json", c.file);
+    const CommandResult r = sweep("nb.json", "nb.csv");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("member by member (not batched: " + c.message), std::string::npos) << r.err;
+  }
+}
+
+// Every example sweep (examples/sweep/*.json) loads, passes the checks before the run, and runs its member 0
+// (--shard 0/N with N beyond its member count): the examples cannot rot unnoticed.
+TEST_F(CliSweep, ExampleSweepsLoadAndRun) {
+  int examples = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(LGI_EXAMPLES_DIR) / "sweep")) {
+    if (entry.path().extension() != ".json") continue;
+    ++examples;
+    SCOPED_TRACE(entry.path().string());
+    const CommandResult r = lgi("sweep " + entry.path().string() + " --shard 0/10000000 -q -o " + (dir_ / "part.csv").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto lines = lines_of(read("part.csv"));
+    ASSERT_EQ(lines.size(), 3u);  // the shard line, the header, member 0
+    EXPECT_EQ(lines[2].rfind("0,", 0), 0u);
+    if (lines[1].find(",status,") != std::string::npos) {
+      EXPECT_NE(lines[2].find(",completed,"), std::string::npos) << lines[2];
+    }
+  }
+  EXPECT_GE(examples, 4);
 }
 
 #ifdef LGI_SWEEP_MPI_EXE
@@ -378,6 +652,20 @@ TEST_F(CliSweep, MpiRanksWriteTheSerialBytes) {
     const int raw = std::system(cmd.c_str());
     ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << np << " ranks: " << slurp(dir_ / "mpi.out");
     EXPECT_EQ(read("mpi" + np + ".csv"), read("serial.csv")) << np << " ranks";
+  }
+  // In-run records: the crossings file too.
+  write("observed.json", heavy_top_sweep(std::string(R"({"grid": {"/initial/omega/0": {"from": -1, "to": 1, "count": 10},
+                                                  "/problem/b": [0.5, 1, 2]}, )") + observed_records + "}"));
+  ASSERT_EQ(sweep("observed.json", "oserial.csv").status, 0);
+  ASSERT_EQ(lines_of(read("oserial.crossings.csv")).size(), 31u);  // the header and one crossing per member
+  for (const std::string np : {"1", "3"}) {
+    const std::string out = (dir_ / ("ompi" + np + ".csv")).string();
+    const std::string cmd = mpirun + np + " " + LGI_SWEEP_MPI_EXE + " " + (dir_ / "observed.json").string() + " -o " +
+                            out + " -q > " + (dir_ / "mpi.out").string() + " 2>&1";
+    const int raw = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << np << " ranks: " << slurp(dir_ / "mpi.out");
+    EXPECT_EQ(read("ompi" + np + ".csv"), read("oserial.csv")) << np << " ranks";
+    EXPECT_EQ(read("ompi" + np + ".crossings.csv"), read("oserial.crossings.csv")) << np << " ranks";
   }
   write("bad.json", heavy_top_sweep(R"({"grid": {"/initial/omegaa/0": [1, 2]}})"));
   const std::string cmd = mpirun + "2 " + LGI_SWEEP_MPI_EXE + " " + (dir_ / "bad.json").string() + " -o " +
