@@ -16,16 +16,24 @@
 // (a_ij = Σ_e α_iej, b_j = Σ_e β_ej): RK4 for CF4, the CG3 tableau for CG3.
 //
 // CF4 (Celledoni, Marthinsen, Owren, Future Gener. Comput. Syst. 19 (2003) 341, the fourth-order method
-// with five exponentials; also Owren, J. Phys. A 39 (2006) 5585 — equation numbers not confirmed):
+// with five exponentials; order conditions for this class: Owren, J. Phys. A 39 (2006) 5585). The paper was
+// not available to us, so no equation or table number of it is given; the coefficients below are those of
+// the method as written out, and attributed to that paper, in the Celledoni–Owren group's NTNU documentation
+// (THREAD-3-2/lie_group_integrators_double_spherical_pendulum: docs/two_classes_lie_groups.rst and
+// src/integrators/CFreeRK4.m), including the order of the two update factors and R_4's reuse of R_2:
 //   R_2 = R_n exp(½hΩ_1),  R_3 = R_n exp(½hΩ_2),  R_4 = R_2 exp(h(Ω_3 − ½Ω_1)),
 //   R_{n+1} = R_n exp(h/12 (3Ω_1 + 2Ω_2 + 2Ω_3 − Ω_4)) exp(h/12 (−Ω_1 + 2Ω_2 + 2Ω_3 + 3Ω_4)).
 //   c = (0, ½, ½, 1). Order 4. Five exponentials a step (R_4 reuses R_2's).
-// CG3 (Crouch & Grossman, J. Nonlinear Sci. 3 (1993) 1; coefficients of Owren & Marthinsen, BIT 39 (1999)
-// 116, also in Hairer–Lubich–Wanner, GNI 2nd ed., §IV.8 — equation/table numbers not confirmed):
+// CG3 (Crouch & Grossman, J. Nonlinear Sci. 3 (1993) 1): the coefficients are the right-hand array of
+// Hairer–Lubich–Wanner, GNI 2nd ed., §IV.8.1, Table 8.1 ("Crouch-Grossman methods of order 3"; the left array
+// is one of Crouch & Grossman's own solutions), checked against the book's text. GNI does not name the source
+// of the right array; ManifoldDiffEq.jl attributes it to Owren & Marthinsen, BIT 39 (1999) 116, "tableau 6.1"
+// (not checked against that paper):
 //   a_21 = 3/4, a_31 = 119/216, a_32 = 17/108, b = (13/51, −2/3, 24/17), c = (0, 3/4, 17/24);
 //   R_3 = R_n exp(h a_31 Ω_1) exp(h a_32 Ω_2),  R_{n+1} = R_n exp(h b_1 Ω_1) exp(h b_2 Ω_2) exp(h b_3 Ω_3).
 //   Order 3: the classical conditions up to order 3 plus Σ b_i² c_i + 2 Σ_{i<j} b_i c_i b_j = 1/3
-//   (Owren & Marthinsen 1999), all exact for these rationals (tests/test_commutator_free.cpp checks them).
+//   (HLW Theorem IV.8.2, the last condition being (IV.8.7); Owren & Marthinsen 1999 extend this order theory
+//   to higher orders), all exact for these rationals (tests/test_commutator_free.cpp checks them).
 //   Six exponentials a step.
 //
 // Cost. Stage attitudes are only needed through the torque: for a torque of Γ = Rᵀa alone
