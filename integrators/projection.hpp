@@ -2,13 +2,16 @@
 // restore the energy and a momentum invariant by moving Ω alone (R untouched).
 //
 // The standard projection method (Hairer, Lubich, Wanner, Geometric Numerical Integration, 2nd ed. (2006),
-// §IV.4, "Standard Projection Method", Algorithm 4.2 — algorithm number from memory, not confirmed; Hairer,
-// BIT 41 (2001) 996, §2): after a step ỹ_{n+1} of the underlying method, take
+// §IV.4, Algorithm 4.2 "Standard Projection Method", with the projection step in the form (IV.4.5) — both
+// checked against the book's text; Hairer, BIT 41 (2001) 996, §2): after a step ỹ_{n+1} of the underlying
+// method, take
 //
 //   y_{n+1} = ỹ_{n+1} + G(ỹ_{n+1})ᵀ λ   with λ such that g(y_{n+1}) = g(y_0),
 //
-// G = g' the gradient of the invariants, λ from Newton's method. Here y = Ω with R held fixed (R is already
-// on SO(3) to round-off for the RKMK methods; its invariants — the Casimir |Rᵀk| = 1 — need no help), and
+// G = g' the gradient of the invariants, λ from Newton's method (HLW use simplified Newton iterations from
+// λ = 0 and note that the first increment is of the size of the local error). Here y = Ω with R held fixed
+// (R is already on SO(3) to round-off for the RKMK methods; its invariants — the Casimir |Rᵀk| = 1 — need no
+// help), and
 //
 //   g₁(Ω) = ½ Ω·JΩ + V(R)                      energy; ∇g₁ = JΩ                   (every problem)
 //   g₂(Ω) = a·(R JΩ) = (JΓ)·Ω,  Γ = Rᵀa        momentum about the axis a of a ReducedAttitudeProblem
