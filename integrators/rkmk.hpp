@@ -13,11 +13,12 @@
 //             U_i = J_r⁻¹(u_i) W_i (series truncated after ad^(p−2)),   V_i = Ω'(t_n + c_i h, R_n exp(u_i), W_i)
 //   update:   R_{n+1} = R_n exp(h Σ b_i U_i),   Ω_{n+1} = Ω_n + h Σ b_i V_i.
 //
-// The truncation after the ad^(p−2) term keeps the order p of the tableau (HLW Theorem IV.8.5;
-// Munthe-Kaas, Appl. Numer. Math. 29 (1999) 115 — theorem numbers from the literature survey, not
-// re-confirmed here): along the exact flow u = tΩ + O(t²), so ad_u^k Ω = O(t^(k+1)) and the dropped terms
-// change a step by O(h^(p+1)). It makes the stage map a polynomial. Since B_k = 0 for odd k ≥ 3, K = p − 2
-// is lowered to the last non-zero term (DP5: K = 2). Measured (tests/test_rkmk_family.cpp,
+// The truncation after the ad^(p−2) term keeps the order p of the tableau (HLW Theorem IV.8.5: classical order
+// p and truncation index q ≥ p − 2 in (IV.8.9) give order p — checked against the book's text, whose proof is
+// the argument below; HLW credit Algorithm IV.8.3 to Munthe-Kaas (1999), Appl. Numer. Math. 29 (1999) 115,
+// whose own theorem numbers were not checked): along the exact flow u = tΩ + O(t²), so ad_u^k Ω = O(t^(k+1))
+// and the dropped terms change a step by O(h^(p+1)). It makes the stage map a polynomial. Since B_k = 0 for
+// odd k ≥ 3, K = p − 2 is lowered to the last non-zero term (DP5: K = 2). Measured (tests/test_rkmk_family.cpp,
 // RkmkSeriesTruncation): one non-zero term short, the order falls to the dropped power + 1 — RKMK3 with
 // K = 0: 2.000; RKMK4 with K = 1: 3.003; DP5 with K = 1: 3.001; DOP853 with K = 4: 7.06.
 // Zero tableau entries are skipped at compile time, and so are trailing stages with b_i = 0 in fixed steps
