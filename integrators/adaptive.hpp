@@ -12,7 +12,12 @@
 // logic of Hairer & Wanner's codes DOPRI5 and DOP853, whose parameter names are kept here):
 //
 //   PI controller (Gustafsson, ACM TOMS 17 (1991) 533; Gustafsson, Lundh, Söderlind, BIT 28 (1988) 270;
-//   Hairer & Wanner, Solving ODEs II, §IV.2 — equation numbers there not confirmed):
+//   Hairer & Wanner, Solving ODEs II, 2nd ed., §IV.2, "A PI Step Size Control": the controller is their
+//   (IV.2.43c), h_{n+1} = h_n (Tol/err_n)^α (err_{n−1}/Tol)^β, with Gustafsson's (1991) choice α ≈ 0.7/p,
+//   β ≈ 0.4/p and the remark that β = 0.04 suits DOP853 — checked against the book's text, where the number
+//   of the α, β display is not legible in the copy read. The parametrisation below, α = 1/k − 0.75 β with
+//   β = 0.04, err_{n−1} ≥ 1e-4, the rejection rule and the no-growth-after-rejection rule are those of
+//   Hairer's dopri5.f (subroutine DOPCOR, read)):
 //     h_new = h · clamp(safety · err_n^(−α) · err_{n−1}^β, fac_min, fac_max),   α = 1/k − 0.75 β,
 //   with err_{n−1} the error of the last accepted step (≥ 1e-4), β = 0.04 by default (β = 0: the classical
 //   controller h·safety·err^(−1/k)). A step with err > 1 is rejected and retried with
