@@ -60,7 +60,8 @@ inline constexpr ButcherTableau<4> classical_rk4{
 };
 
 // Heun's method (the explicit trapezoidal rule): order 2. K. Heun, Z. Math. Phys. 45 (1900) 23–38;
-// Hairer, Nørsett, Wanner, Solving ODEs I, 2nd ed., §II.1 (its table number there not confirmed).
+// Hairer, Nørsett, Wanner, Solving ODEs I, 2nd ed., §II.1 (its table number there not confirmed: the book
+// was not available to us).
 inline constexpr ButcherTableau<2> heun{
     .name = "rkmk_heun",
     .title = "Runge-Kutta-Munthe-Kaas, Heun (explicit trapezoidal rule)",
@@ -73,7 +74,7 @@ inline constexpr ButcherTableau<2> heun{
 
 // Kutta's third-order method: c = (0, 1/2, 1), a21 = 1/2, a31 = −1, a32 = 2, b = (1/6, 2/3, 1/6).
 // W. Kutta, Z. Math. Phys. 46 (1901) 435–453; Hairer, Nørsett, Wanner, Solving ODEs I, §II.1 (its
-// table number there not confirmed).
+// table number there not confirmed: the book was not available to us).
 inline constexpr ButcherTableau<3> kutta3{
     .name = "rkmk3",
     .title = "Runge-Kutta-Munthe-Kaas, Kutta's third-order method",
@@ -183,7 +184,10 @@ inline constexpr std::array<std::array<double, 7>, 1> dp5_d = {{{-12715105075.0 
 }  // namespace detail
 
 // Dormand & Prince, J. Comput. Appl. Math. 6 (1980) 19–26 (the pair RK5(4)7M); Hairer, Nørsett, Wanner,
-// Solving ODEs I, 2nd ed. (1993), §II.5 (Table 5.2 there, number from memory, not confirmed); dense output
+// Solving ODEs I, 2nd ed. (1993), §II.5 (Table 5.2 there: a number from memory, also so cited in third-party
+// code, but not checked against the 2nd edition, which was not available to us; Hairer's dopri5.f names the
+// book without section or table, and the 1st edition's appendix points to its Table 4.6 of §II.4, so the
+// numbering differs between editions); dense output
 // of order 4 by Shampine, Math. Comp. 46 (1986) 135–150, in the form of Hairer & Wanner's DOPRI5 code
 // (HNW I §II.6). Coefficients cross-checked against two independent transcriptions of DOPRI5 and by the
 // order conditions (tests/test_rkmk_family.cpp).
@@ -379,7 +383,8 @@ inline constexpr std::array<std::array<double, 16>, 4> dop853_d = [] {
 // and an order-7 continuous extension. Prince & Dormand, J. Comput. Appl. Math. 7 (1981) 67–75 (the
 // RK8(7)13M family); the 8(5,3) version and its dense output: Hairer, Nørsett, Wanner, Solving ODEs I,
 // 2nd ed. (1993), §II.5 and §II.6, code dop853.f (section numbers from memory; table and equation numbers
-// not confirmed). Error estimate of dop853.f: err = ‖δ₅‖² / √(‖δ₅‖² + 0.01 ‖δ₃‖²) (RMS norms of the scaled
+// not confirmed — the book was not available to us, and dop853.f's header cites only the book). Error
+// estimate of dop853.f: err = ‖δ₅‖² / √(‖δ₅‖² + 0.01 ‖δ₃‖²) (RMS norms of the scaled
 // components), which behaves like h⁸: control_order 8. Checked by the order conditions (order 8 for b,
 // 5 for b − e, 3 for b − e3, 7 for the dense weights) in tests/test_rkmk_family.cpp.
 inline constexpr EmbeddedTableau<12, 16> dop853{
