@@ -186,8 +186,8 @@ inline constexpr std::array<std::array<double, 7>, 1> dp5_d = {{{-12715105075.0 
 // Dormand & Prince, J. Comput. Appl. Math. 6 (1980) 19–26 (the pair RK5(4)7M); Hairer, Nørsett, Wanner,
 // Solving ODEs I, 2nd ed. (1993), §II.5 (Table 5.2 there: a number from memory, also so cited in third-party
 // code, but not checked against the 2nd edition, which was not available to us; Hairer's dopri5.f names the
-// book without section or table, and the 1st edition's appendix points to its Table 4.6 of §II.4, so the
-// numbering differs between editions); dense output
+// book without section or table; the 1st edition's appendix points to its Table 4.6 of §II.4, so a table
+// number needs its edition); dense output
 // of order 4 by Shampine, Math. Comp. 46 (1986) 135–150, in the form of Hairer & Wanner's DOPRI5 code
 // (HNW I §II.6). Coefficients cross-checked against two independent transcriptions of DOPRI5 and by the
 // order conditions (tests/test_rkmk_family.cpp).
