@@ -15,20 +15,27 @@
 // Coefficient sets (constexpr data below, each with its source; coefficients stored in long double, so
 // that long-double runs measure the high orders beyond double round-off):
 //   yoshida4   order 4, s = 3:  γ_1 = γ_3 = 1/(2 − 2^{1/3}), γ_2 = −2^{1/3}/(2 − 2^{1/3}) — the "triple
-//              jump" of Yoshida, Phys. Lett. A 150 (1990) 262, §4 (also Suzuki, Creutz–Gocksch); HLW (II.4.4).
+//              jump" of Yoshida, Phys. Lett. A 150 (1990) 262 (his section number, "§4", not confirmed);
+//              HLW (II.4.4) with p = 2, Example II.4.2, which credits Creutz & Gocksch 1989, Forest 1989,
+//              Suzuki 1990 and Yoshida 1990.
 //   suzuki4    order 4, s = 5:  γ_1 = γ_2 = γ_4 = γ_5 = 1/(4 − 4^{1/3}), γ_3 = −4^{1/3}/(4 − 4^{1/3}) —
-//              Suzuki's fractal decomposition, Phys. Lett. A 146 (1990) 319; HLW (II.4.5).
+//              Suzuki's fractal decomposition, Phys. Lett. A 146 (1990) 319; HLW (II.4.5) with p = 2,
+//              Example II.4.3.
 //   yoshida6   order 6, s = 7:  Yoshida 1990 solution A (his Table 1), to 26 digits as HLW (V.3.11) p6 s7.
 //   kahan_li6  order 6, s = 9:  Kahan & Li, Math. Comp. 66 (1997) 1089; HLW (V.3.12) p6 s9.
 //   yoshida8   order 8, s = 15: Yoshida 1990 solution A (his Table 2), 15 published digits; the middle
 //              coefficient w_0 = 1 − 2 Σ w_i as Yoshida defines it, so that Σγ = 1 to round-off.
 //   kahan_li8  order 8, s = 17: Kahan & Li 1997; HLW (V.3.14) p8 s17.
 //   sofroniou_spaletta10  order 10, s = 35: Sofroniou & Spaletta, Optim. Methods Softw. 20 (2005) 597,
-//              as printed in HLW 2nd ed., §V.3.2, p. 158 (p10 s35; the equation number is not confirmed).
-//              Kahan & Li's own order-10 sets (s = 31, 33) could not be obtained; HLW 2nd ed. calls this
-//              one "significantly improved" over them.
-// Equation numbers are HLW 2nd ed. (2006) as confirmed from its text; Yoshida's and Suzuki's own equation
-// numbers could not be confirmed and are not given. Every set is checked by tests/test_composition.cpp:
+//              as printed in HLW 2nd ed. at the end of §V.3.2, just before §V.3.3 (which the table of
+//              contents puts at p. 158), labelled "p10 s35"; in the copy read no equation number is legible
+//              for it (the sets before it are (V.3.13) p8 s15 and (V.3.14) p8 s17), and HLW date it
+//              "Sofroniou & Spaletta (2004)". Kahan & Li's own order-10 sets (s = 31, 33) could not be
+//              obtained; HLW 2nd ed. calls this one "significantly improved" over them.
+// Equation numbers are HLW 2nd ed. (2006) as confirmed from its text ((V.3.8), (V.3.10), Theorem V.3.4,
+// Example V.3.5, Fig. V.3.3, (V.3.11), (V.3.12), (V.3.14), (II.4.4), (II.4.5); the 26-digit p6 s7 and p10 s35
+// values above agree with the legible digits of that text); Yoshida's and Suzuki's own equation numbers
+// could not be confirmed and are not given. Every set is checked by tests/test_composition.cpp:
 // symmetric, Σγ = 1, and its observed order on the free body and a heavy top.
 #pragma once
 
