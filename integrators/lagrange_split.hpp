@@ -36,13 +36,14 @@
 // read off q̃ without forming a matrix. Explicit, no solve, no step-size restriction from the spin rate.
 //
 // Order 2 (Strang splitting φ^[V]_{h/2} ∘ φ^[T]_h ∘ φ^[V]_{h/2}: Strang, SIAM J. Numer. Anal. 5 (1968)
-// 506; Hairer, Lubich & Wanner, Geometric Numerical Integration, 2nd ed., §II.5 — no equation number
-// given: not checked against the book; the order is measured, 2.000). Symplectic and symmetric
-// (composition of exact Hamiltonian flows, symmetric arrangement). Preserves exactly: R on SO(3) to
-// round-off (products of rotations); m_ψ = Π3 = I3 Ω3 bit for bit in the stepped state (no operation
-// touches Π3; m_ψ is a linear invariant, Ω3' ≡ 0, so RKMK4 and the LGVI keep it to round-off as well —
-// measured: unchanged); m·k to round-off (the kick adds a vector ⊥ Γ = Rᵀk, the drift preserves m = RΠ); energy
-// bounded (no drift). Exact (to round-off) when b = 0: it is then the free symmetric body's flow, so it
+// 506; Hairer, Lubich & Wanner, Geometric Numerical Integration, 2nd ed., §II.5, eq. (II.5.3), which they
+// call the Strang splitting (Strang 1968) and show to be symmetric and of order 2 — checked against the
+// book's text; the order is also measured, 2.000). Symplectic and symmetric (composition of exact
+// Hamiltonian flows, symmetric arrangement; HLW Example II.5.1 makes the same argument for Störmer–Verlet).
+// Preserves exactly: R on SO(3) to round-off (products of rotations); m_ψ = Π3 = I3 Ω3 bit for bit in the stepped state
+// (no operation touches Π3; m_ψ is a linear invariant, Ω3' ≡ 0, so RKMK4 and the LGVI keep it to round-off as well —
+// measured: unchanged); m·k to round-off (the kick adds a vector ⊥ Γ = Rᵀk, the drift preserves m = RΠ); energy bounded
+// (no drift). Exact (to round-off) when b = 0: it is then the free symmetric body's flow, so it
 // integrates the fast spin of a gyroscope exactly and only the gravity kicks carry the O(h²) error —
 // the regime of the fast Lagrange top (Brüls, Cardona, Arnold 2012; shared/NUMERICS.md: "integrate the
 // spin about the symmetry axis exactly"). Using the exact symmetric free flow inside splittings:
