@@ -16,8 +16,11 @@
 //     rotation by −θ. Composed symmetrically, a(h/2) b(h/2) c(h) b(h/2) a(h/2): order 2, symmetric,
 //     symplectic (a composition of exact Hamiltonian flows); |Π| and m exact to round-off, H with a
 //     bounded O(h²) error. The size of that error depends on the order (a, b, c) by orders of
-//     magnitude (Fassò, J. Comput. Phys. 189 (2003) 527, from the dominant term of the modified
-//     Hamiltonian; we could not read the paper's text, so its selection rule is not quoted here). The
+//     magnitude (Fassò, J. Comput. Phys. 189 (2003) 527, "Comparison of splitting algorithms for the rigid
+//     body": its abstract, which we read, says the comparison rests on the dominant term of the modified
+//     Hamiltonian, that the energy errors of the algorithms differ by several orders of magnitude, and that
+//     for the flat body I ∝ (1, 0.75, 0.25) one of them is of order four; HLW 2nd ed. §VII.5.3 cites it for
+//     this comparison. The paper's text was not available, so its selection rule is not quoted here). The
 //     default order is chosen by measurement over all six orders (tests/test_splitting.cpp): smallest
 //     moment outermost, intermediate in the middle, largest innermost with the full step — the order
 //     that is of fourth order for Fassò's flat body I ∝ (1, 0.75, 0.25), see axis_order_for().
@@ -62,8 +65,10 @@
 //     long-double reference). DMV preserves |Π| and H exactly, so Ĩ is the same computed from the start
 //     or the end of the step: the method stays symmetric. It is not claimed symplectic: Ĩ depends on the
 //     state through H and |Π|, and whether the paper proves the map symplectic could not be checked (the
-//     paper's text was not available to us; the authors' Fortran code says nothing on it), so the trait
-//     stays false. m and |Π| are kept to round-off.
+//     paper's text, and its preprint unige.ch/~hairer/preprints/predmv.pdf named in the code's header,
+//     were not available to us; the header of the authors' DMV10.f, which we read, describes the method
+//     and its Strang splitting with a potential but says nothing on symplecticity), so the trait stays
+//     false. m and |Π| are kept to round-off.
 //
 // Non-diagonal J: PrincipalAxes diagonalises it once. For double it is Eigen's symmetric eigensolver;
 // for ceres::Jet the value part is diagonalised in double and the derivative parts follow by first-order
