@@ -129,7 +129,7 @@ inline constexpr CommutatorFreeTableau<3, 2, 3> cg3{
     .alpha = {{{{{0, 0, 0}, {0, 0, 0}}}, {{{0.75, 0, 0}, {0, 0, 0}}}, {{{119.0 / 216, 0, 0}, {0, 17.0 / 108, 0}}}}},
     .beta = {{{13.0 / 51, 0, 0}, {0, -2.0 / 3, 0}, {0, 0, 24.0 / 17}}},
     .c = {0, 0.75, 17.0 / 24},
-    .reference = "Crouch, Grossman, J. Nonlinear Sci. 3 (1993) 1; Owren, Marthinsen, BIT 39 (1999) 116",
+    .reference = "Crouch, Grossman, J. Nonlinear Sci. 3 (1993) 1; coefficients: Hairer-Lubich-Wanner GNI, Table IV.8.1",
 };
 
 }  // namespace tableaus

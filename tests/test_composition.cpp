@@ -502,12 +502,13 @@ TEST(LagrangeSplitCompositions, SymmetricAndConservative) {
 
   const double E0 = energy(top, x0);
   const auto inv0 = top.invariants(x0);
-  double max_dE = 0, max_dmk = 0;
+  double max_dE = 0, max_dmk = 0, max_orth = 0;
   std::vector<double> t, e;
   State<double> x = x0;
   const auto observe = [&](double tt, const State<double>& z) {
     const double dE = std::abs(energy(top, z) - E0) / std::abs(E0);
     max_dE = std::max(max_dE, dE);
+    max_orth = std::max(max_orth, so3::orthogonality_error(z.R));
     max_dmk = std::max(max_dmk, std::abs(top.invariants(z)[0] - inv0[0]) / spatial_momentum(top.inertia, x0).norm());
     if (tt > 0) t.push_back(tt), e.push_back(dE);
   };
@@ -518,9 +519,11 @@ TEST(LagrangeSplitCompositions, SymmetricAndConservative) {
   double first = 0, last = 0;
   for (std::size_t i = 0; i < e.size() / 10; ++i) first = std::max(first, e[i]), last = std::max(last, e[e.size() - 1 - i]);
   std::printf("lagrange_split_kahan_li8, 1e6 steps h = 0.3: energy %.2e (first tenth %.2e, last %.2e), m.k %.2e, "
-              "m_psi %.17g -> %.17g\n", max_dE, first, last, max_dmk, inv0[1], top.invariants(x)[1]);
+              "|R^T R - I| %.2e, m_psi %.17g -> %.17g\n", max_dE, first, last, max_dmk, max_orth, inv0[1],
+              top.invariants(x)[1]);
   EXPECT_LT(last, 2 * first);
   EXPECT_LT(max_dmk, 1e-12);
+  EXPECT_LT(max_orth, 1e-12);
   EXPECT_EQ(x.Omega.z() * top.inertia(2, 2), inv0[1]);
 }
 

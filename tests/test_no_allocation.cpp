@@ -121,6 +121,7 @@ TEST(NoAllocation, ProblemLibrary) {
   const State<double> x0 = test::skew_initial_state();
   const auto lagrange = LagrangeTop<double>::make(2.0, 1.0, 1.0, Vec3<double>(0, 0.6, 0.8));
   expect_no_allocation<LagrangeSplit>(lagrange, x0);
+  expect_no_allocation<LagrangeSplitKahanLi8>(lagrange, x0);
   expect_no_allocation<Lgvi>(lagrange, x0);
   expect_no_allocation<Lgvi>(KovalevskayaTop<double>{}, x0);
   expect_no_allocation<Rkmk4>(Satellite<double>{}, x0);
@@ -237,6 +238,8 @@ TEST(NoAllocation, RkmkFamilyBaselinesProjectionAdaptive) {
   expect_no_allocation<RkmkDp5>(top, x0);
   expect_no_allocation<RkmkDp8>(top, x0);
   expect_no_allocation<RkmkDp8>(body, x0);
+  expect_no_allocation<Rkmk4Cayley>(top, x0);
+  expect_no_allocation<RkmkDp8Cayley>(body, x0);
   expect_no_allocation<Rk4Quat>(top, x0);
   expect_no_allocation<Rk4MatRenorm>(top, x0);
   expect_no_allocation<Dop853QuatRenorm>(top, x0);
@@ -247,6 +250,8 @@ TEST(NoAllocation, RkmkFamilyBaselinesProjectionAdaptive) {
   expect_no_allocation_adaptive<RkmkDp5<HeavyTop<double>>>(top, x0);
   expect_no_allocation_adaptive<RkmkDp8<HeavyTop<double>>>(top, x0);
   expect_no_allocation_adaptive<RkmkDp8<FreeBody<double>>>(body, x0);
+  expect_no_allocation_adaptive<RkmkDp8Cayley<HeavyTop<double>>>(top, x0);
+  expect_no_allocation_adaptive<Projected<RkmkDp8Cayley<HeavyTop<double>>>>(top, x0);
   expect_no_allocation_adaptive<Projected<RkmkDp5<HeavyTop<double>>>>(top, x0);
   expect_no_allocation_adaptive<Dop853MatRenorm<HeavyTop<double>>>(top, x0);
 }
