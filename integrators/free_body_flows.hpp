@@ -84,6 +84,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 namespace lgi {
 
@@ -170,6 +171,65 @@ void renormalise(Quaternion<T>& q) {
   q.v(0) += e * q.v(0);
   q.v(1) += e * q.v(1);
   q.v(2) += e * q.v(2);
+}
+
+// q ← q ⊗ (1, c)/√(|q|² α), the DMV rotation (1, c)/√α with α = 1 + |c|² given (dmv_apply). |q ⊗ (1, c)|²
+// = |q|² α exactly, so dividing by √(|q|² α) instead of √α also takes out the rounding of |q| left by earlier
+// steps: |q| − 1 stays at round-off instead of random-walking, with no separate renormalisation (the scalar
+// factor changes only |q|, never the rotation R(q)). Written as an increment, q + (g q + q ⊗ (0, s c)) with
+// s = 1/√(|q|² α) = 1 + g, so each component is rounded once: the shorter s·(q + δ) rounds twice and
+// measured 1.2–1.7× the rms m·k random walk (16 runs of 10⁶ steps, h = 1e-6 … 0.01, random attitudes).
+// The four components are formed alike, lane by lane, (g q_i + ((s x) a_i + (s y) b_i + (s z) c_i)) with
+// (a, b, c) signed permutations of q, so that for double GCC's vector extensions can compute them two at a
+// time (SSE2 at the baseline, no FMA): the same operations in the same order, bit for bit the scalar
+// result (tests/test_dmv.cpp), 16 instructions a kick + DMV step fewer than the scalar code (HV top; 20
+// for the preprocessed DMV of order 4).
+namespace detail {
+template <class T>
+void multiply_increment_scalar(Quaternion<T>& q, const T& x, const T& y, const T& z, const T& a) {
+  using std::sqrt;
+  const T w = q.w, v0 = q.v(0), v1 = q.v(1), v2 = q.v(2);
+  const T s = T(1) / sqrt(((w * w + v1 * v1) + (v0 * v0 + v2 * v2)) * a);
+  const T g = s - T(1);  // exact for s in [½, 2]; the rounding of s scales q, it never turns it
+  const T xs = s * x, ys = s * y, zs = s * z;
+  q.w = w + (g * w + ((-(v0 * xs) - v1 * ys) - v2 * zs));
+  q.v(0) = v0 + (g * v0 + ((w * xs - v2 * ys) + v1 * zs));
+  q.v(1) = v1 + (g * v1 + ((v2 * xs + w * ys) - v0 * zs));
+  q.v(2) = v2 + (g * v2 + ((v0 * ys - v1 * xs) + w * zs));
+}
+#if defined(__GNUC__) && !defined(__clang__)
+inline void multiply_increment_vector(Quaternion<double>& q, double x, double y, double z, double a) {
+  using v2d = double __attribute__((vector_size(16)));
+  using v2i = long long __attribute__((vector_size(16)));
+  static_assert(sizeof(Quaternion<double>) == 4 * sizeof(double) && alignof(Vec3<double>) == alignof(double),
+                "Quaternion<double>: w, v(0), v(1), v(2) contiguous");
+  v2d A, B;  // (w, v0), (v1, v2)
+  __builtin_memcpy(&A, &q.w, sizeof A);
+  __builtin_memcpy(&B, &q.v(1), sizeof B);
+  const v2d AA = A * A + B * B;                        // (w² + v1², v0² + v2²)
+  const double s = 1 / std::sqrt((AA[0] + AA[1]) * a);
+  const double g = s - 1;
+  const v2d X = {s * x, s * x}, Y = {s * y, s * y}, Z = {s * z, s * z}, G = {g, g};
+  const v2d As = __builtin_shuffle(A, v2i{1, 0}), Bs = __builtin_shuffle(B, v2i{1, 0});  // (v0, w), (v2, v1)
+  const v2d col0A = As * v2d{-1.0, 1.0}, col0B = Bs * v2d{1.0, -1.0};                   // (−v0, w), (v2, −v1)
+  const v2d col2A = Bs * v2d{-1.0, 1.0};                                                 // (−v2, v1)
+  const v2d RA = A + (G * A + ((X * col0A - Y * B) + Z * col2A));
+  const v2d RB = B + (G * B + ((X * col0B + Y * A) + Z * col0A));
+  __builtin_memcpy(&q.w, &RA, sizeof RA);
+  __builtin_memcpy(&q.v(1), &RB, sizeof RB);
+}
+#endif
+}  // namespace detail
+
+template <class T>
+void multiply_increment(Quaternion<T>& q, const T& x, const T& y, const T& z, const T& a) {
+#if defined(__GNUC__) && !defined(__clang__)
+  if constexpr (std::is_same_v<T, double>) {
+    detail::multiply_increment_vector(q, x, y, z, a);
+    return;
+  }
+#endif
+  detail::multiply_increment_scalar(q, x, y, z, a);
 }
 
 }  // namespace quat
@@ -511,27 +571,14 @@ StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& w, value_type
   return StepStatus::ok;
 }
 
-// q ← q ⊗ (1, c)/√α and Π ← R((1, c)/√α)ᵀ Π = Π + (2/α)(c × (c × Π) − c × Π), α = 1 + |c|².
-// |q ⊗ (1, c)|² = |q|² α exactly, so dividing by √(|q|² α) instead of √α also takes out the rounding of
-// |q| left by earlier steps: |q| − 1 stays at round-off instead of random-walking, with no separate
-// renormalisation (the scalar factor changes only |q|, never the rotation R(q)). q is updated as an
-// increment, q + (small terms), so each component is rounded once: the shorter s·(q + δ) rounds twice
-// and measured 1.2–1.7× the rms m·k random walk (16 runs of 10⁶ steps, h = 1e-6 … 0.01, random attitudes).
+// q ← q ⊗ (1, c)/√α (quat::multiply_increment: renormalised, as an increment) and Π ← R((1, c)/√α)ᵀ Π =
+// Π + (2/α)(c × (c × Π) − c × Π), α = 1 + |c|².
 template <class T>
 Vec3<T> dmv_apply(const Vec3<T>& c, Quaternion<T>& q, const Vec3<T>& Pi) {  // returns Π's increment
-  using std::sqrt;
   const T x = c(0), y = c(1), z = c(2);
   const T cc = x * x + y * y + z * z;
   const T a = T(1) + cc;
-  const T w = q.w, v0 = q.v(0), v1 = q.v(1), v2 = q.v(2);
-  // q' = q ⊗ (s, s c), s = 1/√(|q|² α) = 1 + g: q' = q + (g w − v·c̃, g v + w c̃ + v × c̃), c̃ = s c
-  const T s = T(1) / sqrt((w * w + v0 * v0 + v1 * v1 + v2 * v2) * a);
-  const T g = s - T(1);  // exact for s in [½, 2]; the rounding of s scales q, it never turns it
-  const T xs = s * x, ys = s * y, zs = s * z;
-  q.w = w + (g * w - (v0 * xs + v1 * ys + v2 * zs));
-  q.v(0) = v0 + (g * v0 + (w * xs + (v1 * zs - v2 * ys)));
-  q.v(1) = v1 + (g * v1 + (w * ys + (v2 * xs - v0 * zs)));
-  q.v(2) = v2 + (g * v2 + (w * zs + (v0 * ys - v1 * xs)));
+  quat::multiply_increment(q, x, y, z, a);
   const T p0 = Pi(0), p1 = Pi(1), p2 = Pi(2);
   const T e0 = y * p2 - z * p1, e1 = z * p0 - x * p2, e2 = x * p1 - y * p0;  // c × Π
   const T f0 = y * e2 - z * e1, f1 = z * e0 - x * e2, f2 = x * e1 - y * e0;  // c × (c × Π)
