@@ -554,7 +554,7 @@ StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& w, value_type
       c1 = a * w1 + r1 * c0 * c2;
       c2 = a * w2 + r2 * c0 * c1;
     };
-    // The sweeps before the first test, unrolled (a loop with a counter measured 13–19 instructions a step
+    // The sweeps before the first test, unrolled (a loop with a counter measured 11–15 instructions a step
     // more for kick + DMV and its preprocessed variants).
     k = table.sweeps(W2) - 1;
     if (k > 3) [[unlikely]]
