@@ -50,6 +50,12 @@ concept RigidBodyProblem =
 //   Vec3<T> reduced_torque(const Vec3<T>& Gamma) const;  // M, as a function of Γ = Rᵀa
 // torque(R) must equal reduced_torque(Rᵀ reduced_axis()). A problem with a time-dependent torque(t, R)
 // is never treated as reduced (reduced_torque has no time), even if it inherits the two functions.
+// Optional on top of that, where the torque is a cross product with a constant body vector v (gravity on a
+// rigid body: v = b z0):
+//   Vec3<T> reduced_torque_lever() const;               // v, with reduced_torque(Γ) = Γ × v
+// The splittings then compute the torque as one cross product with v turned to principal axes once
+// (integrators/splitting.hpp) and check at construction that it agrees with reduced_torque on e1, e2, e3;
+// a derived problem that changes reduced_torque must change or remove the lever too.
 template <class P>
 concept ReducedAttitudeProblem =
     RigidBodyProblem<P> &&

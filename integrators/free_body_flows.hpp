@@ -33,7 +33,8 @@
 //       c_i = α w_i + ((I_j − I_k)/I_i) c_j c_k,   w_i = h Π_i/(2 I_i),   (i, j, k) cyclic
 //     (HLW eq. (VII.5.27) in Hairer's fast 3-variable form; the same equation the LGVI solves in the
 //     body frame, lgvi.hpp: G(c) = Jc + c × Jc − ½ α hΠ = 0), then q ← q ⊗ p, Π ← R(p)ᵀ Π (written
-//     Π + (2/α)(c × (c × Π) − c × Π), so m = R Π is kept for any c, converged or not). The fixed point
+//     Π + (2/α)(c × (c × Π) − c × Π), so m = R Π is kept for any c, converged or not, to the rounding of
+//     α; dmv_solve says which α). The fixed point
 //     (Gauss–Seidel sweeps from a one-sweep predictor; the number before the first convergence test
 //     predicted from |w|, DmvSweepTable) contracts by ≈ |c|·max|I_j − I_k|/I_i per sweep and runs until
 //     c is exact to round-off, proven by a bound on the contraction (4 sweeps at h|Ω| = 0.03; a solve
@@ -48,11 +49,15 @@
 //     substeps are what keep it finite — the plain fixed point converges at the substep size too, Newton
 //     only in fewer iterations).
 //     Cost on the Hairer–Vilmart heavy top (h = 0.01, benchmarks/callgrind_steps.sh, g++ 12 -O3 for
-//     plain x86-64): 455 instructions a kick + DMV step, of which ≈ 200 the solve (predictor, 4 sweeps of
-//     18 flops at ≈ 26 instructions each — two-operand SSE2 code copies registers — and one bounded
-//     test), ≈ 30 w = ½hΠ/I, ≈ 135 the quaternion and momentum updates, ≈ 50 the torque, ≈ 50 the
-//     kicks, the state's loads and stores and the finiteness test. With -mavx2 -mfma (three-operand
-//     code, fused multiply-adds; not used by the project) ≈ 310.
+//     plain x86-64): 397 instructions a kick + DMV step (455 before the torque lever of splitting.hpp, the
+//     vectorised quaternion update and the unrolled sweeps), of which ≈ 180 the solve (predictor 25, the
+//     sweep count 11, 3 sweeps of 18 flops at ≈ 24 instructions each — two-operand SSE2 code copies
+//     registers — and the tested sweep with its bound ≈ 70), 25 w = ½hΠ/I and |w|², ≈ 60 the
+//     quaternion update, 40 the rotation of Π, ≈ 30 the torque, ≈ 60 the kicks, the state's loads and
+//     stores and the finiteness test. The same code compiled with -mavx2 (three-operand encoding, no
+//     FMA contraction: the same results bit for bit) takes 315, with -mavx2 -mfma 269; the project builds
+//     for baseline x86-64. Fewer at the baseline would need fewer sweeps, which no cheap predictor gives
+//     (dmv_solve), or weaker guarantees.
 //
 // (c) PreprocessedDmv<r> — Hairer & Vilmart, J. Phys. A 39 (2006) 13225: DMV applied with modified
 //     inverse moments 1/Ĩ_i = σ/I_i + δ, where σ = 1 + Σ_k s_k(η, χ), δ = Σ_k d_k(η, χ) are polynomials
@@ -89,6 +94,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 namespace lgi {
 
@@ -175,6 +181,65 @@ void renormalise(Quaternion<T>& q) {
   q.v(0) += e * q.v(0);
   q.v(1) += e * q.v(1);
   q.v(2) += e * q.v(2);
+}
+
+// q ← q ⊗ (1, c)/√(|q|² α), the DMV rotation (1, c)/√α with α = 1 + |c|² given (dmv_apply). |q ⊗ (1, c)|²
+// = |q|² α exactly, so dividing by √(|q|² α) instead of √α also takes out the rounding of |q| left by earlier
+// steps: |q| − 1 stays at round-off instead of random-walking, with no separate renormalisation (the scalar
+// factor changes only |q|, never the rotation R(q)). Written as an increment, q + (g q + q ⊗ (0, s c)) with
+// s = 1/√(|q|² α) = 1 + g, so each component is rounded once: the shorter s·(q + δ) rounds twice and
+// measured 1.2–1.7× the rms m·k random walk (16 runs of 10⁶ steps, h = 1e-6 … 0.01, random attitudes).
+// The four components are formed alike, lane by lane, (g q_i + ((s x) a_i + (s y) b_i + (s z) c_i)) with
+// (a, b, c) signed permutations of q, so that for double GCC's vector extensions can compute them two at a
+// time (SSE2 at the baseline, no FMA): the same operations in the same order, bit for bit the scalar
+// result (tests/test_dmv.cpp), 16 instructions a kick + DMV step fewer than the scalar code (HV top; 20
+// for the preprocessed DMV of order 4).
+namespace detail {
+template <class T>
+void multiply_increment_scalar(Quaternion<T>& q, const T& x, const T& y, const T& z, const T& a) {
+  using std::sqrt;
+  const T w = q.w, v0 = q.v(0), v1 = q.v(1), v2 = q.v(2);
+  const T s = T(1) / sqrt(((w * w + v1 * v1) + (v0 * v0 + v2 * v2)) * a);
+  const T g = s - T(1);  // exact for s in [½, 2]; the rounding of s scales q, it never turns it
+  const T xs = s * x, ys = s * y, zs = s * z;
+  q.w = w + (g * w + ((-(v0 * xs) - v1 * ys) - v2 * zs));
+  q.v(0) = v0 + (g * v0 + ((w * xs - v2 * ys) + v1 * zs));
+  q.v(1) = v1 + (g * v1 + ((v2 * xs + w * ys) - v0 * zs));
+  q.v(2) = v2 + (g * v2 + ((v0 * ys - v1 * xs) + w * zs));
+}
+#if defined(__GNUC__) && !defined(__clang__)
+inline void multiply_increment_vector(Quaternion<double>& q, double x, double y, double z, double a) {
+  using v2d = double __attribute__((vector_size(16)));
+  using v2i = long long __attribute__((vector_size(16)));
+  static_assert(sizeof(Quaternion<double>) == 4 * sizeof(double) && alignof(Vec3<double>) == alignof(double),
+                "Quaternion<double>: w, v(0), v(1), v(2) contiguous");
+  v2d A, B;  // (w, v0), (v1, v2)
+  __builtin_memcpy(&A, &q.w, sizeof A);
+  __builtin_memcpy(&B, &q.v(1), sizeof B);
+  const v2d AA = A * A + B * B;                        // (w² + v1², v0² + v2²)
+  const double s = 1 / std::sqrt((AA[0] + AA[1]) * a);
+  const double g = s - 1;
+  const v2d X = {s * x, s * x}, Y = {s * y, s * y}, Z = {s * z, s * z}, G = {g, g};
+  const v2d As = __builtin_shuffle(A, v2i{1, 0}), Bs = __builtin_shuffle(B, v2i{1, 0});  // (v0, w), (v2, v1)
+  const v2d col0A = As * v2d{-1.0, 1.0}, col0B = Bs * v2d{1.0, -1.0};                   // (−v0, w), (v2, −v1)
+  const v2d col2A = Bs * v2d{-1.0, 1.0};                                                 // (−v2, v1)
+  const v2d RA = A + (G * A + ((X * col0A - Y * B) + Z * col2A));
+  const v2d RB = B + (G * B + ((X * col0B + Y * A) + Z * col0A));
+  __builtin_memcpy(&q.w, &RA, sizeof RA);
+  __builtin_memcpy(&q.v(1), &RB, sizeof RB);
+}
+#endif
+}  // namespace detail
+
+template <class T>
+void multiply_increment(Quaternion<T>& q, const T& x, const T& y, const T& z, const T& a) {
+#if defined(__GNUC__) && !defined(__clang__)
+  if constexpr (std::is_same_v<T, double>) {
+    detail::multiply_increment_vector(q, x, y, z, a);
+    return;
+  }
+#endif
+  detail::multiply_increment_scalar(q, x, y, z, a);
 }
 
 }  // namespace quat
@@ -352,7 +417,9 @@ Vec3<T> dmv_newton_update(const Vec3<T>& c, const Vec3<T>& I, const Vec3<T>& d, 
 
 // Counters of the DMV solver (diagnostics).
 struct DmvCounters {
-  std::int64_t sweeps = 0;  // fixed-point sweeps
+  // Fixed-point sweeps beyond DmvSweepTable's prediction (a first convergence test that failed). The
+  // predicted ones are not counted: a counter bumped every step cost ≈ 6 instructions a step (of ≈ 400).
+  std::int64_t extra_sweeps = 0;
   std::int64_t newton = 0;  // Newton updates
   std::int64_t fallbacks = 0;  // steps where the fixed point stalled and Newton took over
   std::int64_t substeps = 0;   // substeps taken where h|Π| > min I (dmv_substeps)
@@ -386,6 +453,10 @@ struct DmvSweepTable {
   V round_off2 = V(0.25) * std::numeric_limits<V>::epsilon() * V(0.25) * std::numeric_limits<V>::epsilon();
   V rho_w = 0, rho_r = 0;  // ρ² ≤ (rho_w |w|² + rho_r)|c|²: 252 and 2.2 r²
   V fixed_point_w2 = 0;    // above this |w|², ρ ≤ ¼ cannot be shown (|c|² ≤ 1.2|w|²): Newton from the start
+  // The same constants as dmv_solve's test uses them: (9/16) target² = min(test_tol2 |w|², test_round_off2),
+  // ρ² ≤ (test_rho_w |w|² + test_rho_r)(|c|² + 300 U) (factors 9/16 and 1.02 folded in once, not per step)
+  V test_tol2 = 0, test_round_off2 = 0, test_rho_w = 0, test_rho_r = 0;
+  V fast_w2 = 0;  // min(quick_w2, fixed_point_w2)
 
   DmvSweepTable() = default;
   DmvSweepTable(V r_max, V min_I, V max_I, V tol)
@@ -403,6 +474,11 @@ struct DmvSweepTable {
       }
       fixed_point_w2 = lo;
     }
+    fast_w2 = std::min(quick_w2, fixed_point_w2);
+    test_tol2 = V(9) / V(16) * tol2;
+    test_round_off2 = V(9) / V(16) * round_off2;
+    test_rho_w = V(1.02) * rho_w;
+    test_rho_r = V(1.02) * rho_r;
     for (int k = 1; k <= max_sweeps; ++k) {
       // largest x = |w| with (4/3)·ρ(x)·A x³ (B(x) x)^(k−1) ≤ min(tol x, ε/4), both sides increasing
       // in x: bisection
@@ -415,9 +491,15 @@ struct DmvSweepTable {
       }
       w2[static_cast<std::size_t>(k)] = lo * lo;
     }
+    // Non-decreasing (it is in the range used, below fixed_point_w2), so that sweeps() may bisect: the first
+    // k with W2 ≤ w2[k] is unchanged by this.
+    for (int k = 2; k <= max_sweeps; ++k)
+      w2[static_cast<std::size_t>(k)] = std::max(w2[static_cast<std::size_t>(k)], w2[static_cast<std::size_t>(k - 1)]);
   }
-  int sweeps(V W2) const {
-    int k = 1;
+  int sweeps(V W2) const {  // the smallest k ≥ 1 with W2 ≤ w2[k] (max_sweeps if none; 1 for NaN)
+    if (!(W2 > w2[2])) return W2 > w2[1] ? 2 : 1;  // two comparisons up to 4 sweeps (w2 non-decreasing)
+    if (!(W2 > w2[4])) return W2 > w2[3] ? 4 : 3;
+    int k = 5;
     while (k < max_sweeps && W2 > w2[static_cast<std::size_t>(k)]) ++k;
     return k;
   }
@@ -428,13 +510,17 @@ struct DmvSweepTable {
 //
 // Iteration: the predictor is one Gauss–Seidel sweep from c = w (error ≈ 0.02 |w|³ on the HV body, 50×
 // smaller there than Hairer's explicit predictor c_i = w_i + r_i c_j c_k, which lacks the α|w|² w term,
-// for 4 more flops); then Gauss–Seidel sweeps, the first convergence test after table.sweeps(W2).
+// for 4 more flops); then Gauss–Seidel sweeps, the first convergence test after table.sweeps(W2) (the
+// sweeps before it unrolled). Fewer sweeps need a better start than the predictor gives: on the HV top at
+// h = 0.01 the error after the predictor and 3 sweeps is up to 1.9e-16 > ε/4 (median 5e-17; an explicit
+// series through |w|³, or a sweep from c = w + r∘(w_j w_k), measured no better after two more sweeps), so
+// even a test that knew the error exactly would need the 4th sweep on part of the trajectory.
 //
 // Accuracy: the solution is wanted to round-off, not to a tolerance. c enters the state as an increment
 // of the unit quaternion, so an error δc moves the state by ≈ 2|δc| (and Π by ≈ 2|Π||δc|): the sweeps stop
 // when every component's remaining error is below ε/4 (ε of the value type; or below tolerance·|w| where
 // that is smaller, at tiny steps) by the contraction bound of DmvSweepTable: with U the squared update of
-// the last sweep, ρ² ≤ P = 1.02 (2.2r² + 252|w|²)(|c|² + 300U) (|c|² = α − 1 at the sweep's start; the
+// the last sweep, ρ² ≤ P = 1.02 (2.2r² + 252|w|²)(|c|² + 300U) (|c|² at the sweep's start; the
 // second term covers the distance to the solution: (x + y)² ≤ 1.02x² + 51y², |e|² ≤ 3 (4/3)² U),
 // converged when P ≤ 1/16 (ρ ≤ ¼) and (16/9)·P·U ≤ target². That is a bound, not an estimate, and it
 // needs the update of the last sweep only (an estimate of ρ from two updates costs a second one). Newton
@@ -444,32 +530,60 @@ struct DmvSweepTable {
 // same for the step h and its reverse −h, and the step is then symmetric only to that error: measured
 // 4e-14 for step(h) ∘ step(−h) on the skew top at h = 0.1 with tolerance 1e-14, against 4e-16 now
 // (tests/test_splitting.cpp, StepThenReverseStepIsIdentity).
+//
+// alpha (for dmv_apply): α = 1 + |c|². Where the fixed point converged it is the α the test sweep started
+// from, not recomputed from the sweep's result (5 flops; measured 5–11 instructions a step): the two differ
+// by 2c·Δ + |Δ|² (Δ the last update, ≈ 1e-16 at h|Ω| = 0.03), which changes the rounded α in ≈ 0.5 % of
+// the steps of the HV top, by one ulp. |q| is then off by half an ulp, corrected the next step (q is
+// renormalised from its current norm); Π's rotation is orthogonal to ≈ 2|c| ulp(1) instead of to rounding
+// in those steps. The m·k random walk measured the same with and without (rms of
+// m·k − m·k(0) over 32 random attitudes × 10⁶ steps: 2.4e-14 and 2.6e-14·|m| at h = 0.01, 2.9e-14 both
+// at 1e-4; max over 8 starts × 10⁷ steps 5.6e-13 and 5.9e-13·|m·k|). Newton's result gets its own α.
 template <class T>
 StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& w, value_type_t<T> W2, const Vec3<T>& I,
                      const Vec3<T>& r, const Vec3<T>& d, const DmvSweepTable<value_type_t<T>>& table,
-                     const StepperOptions& options, Vec3<T>& c, DmvCounters& counters) {
+                     const StepperOptions& options, Vec3<T>& c, T& alpha, DmvCounters& counters,
+                     bool fixed_point_ok = false) {
   using V = value_type_t<T>;
   const T w0 = w(0), w1 = w(1), w2 = w(2), r0 = r(0), r1 = r(1), r2 = r(2);
   const T a0 = T(1) + (w0 * w0 + w1 * w1 + w2 * w2);
   T c0 = a0 * w0 + r0 * w1 * w2;
   T c1 = a0 * w1 + r1 * c0 * w2;
   T c2 = a0 * w2 + r2 * c0 * c1;
-  const V target2 = V(9) / V(16) * std::min(table.tol2 * W2, table.round_off2);  // (9/16) target²
-  const V rho2_per_c2 = V(1.02) * (table.rho_w * W2 + table.rho_r);
   int k = 0;
   bool converged = false;
-  if (W2 <= table.fixed_point_w2) [[likely]] {
-    const int first_test = table.sweeps(W2);
-    for (; k < first_test - 1; ++k) {
+  if (fixed_point_ok || W2 <= table.fixed_point_w2) [[likely]] {
+    const auto sweep = [&] {
       const T a = T(1) + (c0 * c0 + c1 * c1 + c2 * c2);
       c0 = a * w0 + r0 * c1 * c2;
       c1 = a * w1 + r1 * c0 * c2;
       c2 = a * w2 + r2 * c0 * c1;
+    };
+    // The sweeps before the first test, unrolled (a loop with a counter measured 11–15 instructions a step
+    // more for kick + DMV and its preprocessed variants).
+    k = table.sweeps(W2) - 1;
+    if (k > 3) [[unlikely]]
+      for (int i = 3; i < k; ++i) sweep();
+    switch (k) {
+      default:
+        sweep();
+        [[fallthrough]];
+      case 2:
+        sweep();
+        [[fallthrough]];
+      case 1:
+        sweep();
+        [[fallthrough]];
+      case 0:
+        break;
     }
+    const V target2 = std::min(table.test_tol2 * W2, table.test_round_off2);  // (9/16) target²
+    const V rho2_per_c2 = table.test_rho_w * W2 + table.test_rho_r;           // 1.02 (252|w|² + 2.2 r²)
     V last = std::numeric_limits<V>::infinity();
     for (;;) {
       const V p0 = static_cast<V>(value_of(c0)), p1 = static_cast<V>(value_of(c1)), p2 = static_cast<V>(value_of(c2));
-      const T a = T(1) + (c0 * c0 + c1 * c1 + c2 * c2);
+      const T cc = c0 * c0 + c1 * c1 + c2 * c2;
+      const T a = T(1) + cc;
       c0 = a * w0 + r0 * c1 * c2;
       c1 = a * w1 + r1 * c0 * c2;
       c2 = a * w2 + r2 * c0 * c1;
@@ -477,16 +591,17 @@ StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& w, value_type
       const V d0 = static_cast<V>(value_of(c0)) - p0, d1 = static_cast<V>(value_of(c1)) - p1,
               d2 = static_cast<V>(value_of(c2)) - p2;
       const V upd = d0 * d0 + d1 * d1 + d2 * d2;
-      const V rho2 = ((static_cast<V>(value_of(a)) - V(1)) + V(300) * upd) * rho2_per_c2;  // ρ² bound
+      const V rho2 = (static_cast<V>(value_of(cc)) + V(300) * upd) * rho2_per_c2;  // ρ² bound
       if (rho2 <= V(0.0625) && rho2 * upd <= target2) {
         converged = true;
+        alpha = a;
         break;
       }
       if (!(V(16) * upd <= last) || k >= table.max_sweeps) break;  // worse than 1/4 per sweep, NaN
       last = upd;
+      ++counters.extra_sweeps;
     }
   }
-  counters.sweeps += k;
   c = Vec3<T>(c0, c1, c2);
   const T half_h = T(0.5) * h;
   if (!converged) [[unlikely]] {
@@ -508,35 +623,22 @@ StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& w, value_type
       }
     }
     if (!newton_converged) return StepStatus::not_converged;
+    alpha = T(1) + c.squaredNorm();
   }
   if constexpr (is_dual_v<T>) {  // one Newton update makes the derivative part exact (implicit function theorem)
     c -= dmv_newton_update(c, I, d, Vec3<T>(half_h * Pi));
     ++counters.newton;
+    alpha = T(1) + c.squaredNorm();
   }
   return StepStatus::ok;
 }
 
-// q ← q ⊗ (1, c)/√α and Π ← R((1, c)/√α)ᵀ Π = Π + (2/α)(c × (c × Π) − c × Π), α = 1 + |c|².
-// |q ⊗ (1, c)|² = |q|² α exactly, so dividing by √(|q|² α) instead of √α also takes out the rounding of
-// |q| left by earlier steps: |q| − 1 stays at round-off instead of random-walking, with no separate
-// renormalisation (the scalar factor changes only |q|, never the rotation R(q)). q is updated as an
-// increment, q + (small terms), so each component is rounded once: the shorter s·(q + δ) rounds twice
-// and measured 1.2–1.7× the rms m·k random walk (16 runs of 10⁶ steps, h = 1e-6 … 0.01, random attitudes).
+// q ← q ⊗ (1, c)/√α (quat::multiply_increment: renormalised, as an increment) and Π ← R((1, c)/√α)ᵀ Π =
+// Π + (2/α)(c × (c × Π) − c × Π), α = 1 + |c|² (from dmv_solve).
 template <class T>
-Vec3<T> dmv_apply(const Vec3<T>& c, Quaternion<T>& q, const Vec3<T>& Pi) {  // returns Π's increment
-  using std::sqrt;
+Vec3<T> dmv_apply(const Vec3<T>& c, const T& a, Quaternion<T>& q, const Vec3<T>& Pi) {  // returns Π's increment
   const T x = c(0), y = c(1), z = c(2);
-  const T cc = x * x + y * y + z * z;
-  const T a = T(1) + cc;
-  const T w = q.w, v0 = q.v(0), v1 = q.v(1), v2 = q.v(2);
-  // q' = q ⊗ (s, s c), s = 1/√(|q|² α) = 1 + g: q' = q + (g w − v·c̃, g v + w c̃ + v × c̃), c̃ = s c
-  const T s = T(1) / sqrt((w * w + v0 * v0 + v1 * v1 + v2 * v2) * a);
-  const T g = s - T(1);  // exact for s in [½, 2]; the rounding of s scales q, it never turns it
-  const T xs = s * x, ys = s * y, zs = s * z;
-  q.w = w + (g * w - (v0 * xs + v1 * ys + v2 * zs));
-  q.v(0) = v0 + (g * v0 + (w * xs + (v1 * zs - v2 * ys)));
-  q.v(1) = v1 + (g * v1 + (w * ys + (v2 * xs - v0 * zs)));
-  q.v(2) = v2 + (g * v2 + (w * zs + (v0 * ys - v1 * xs)));
+  quat::multiply_increment(q, x, y, z, a);
   const T p0 = Pi(0), p1 = Pi(1), p2 = Pi(2);
   const T e0 = y * p2 - z * p1, e1 = z * p0 - x * p2, e2 = x * p1 - y * p0;  // c × Π
   const T f0 = y * e2 - z * e1, f1 = z * e0 - x * e2, f2 = x * e1 - y * e0;  // c × (c × Π)
@@ -594,8 +696,8 @@ class Dmv {
   StepStatus advance(Quaternion<T>& q, const Vec3<T>& Pi, const T& h, Vec3<T>& dPi) {
     value_type_t<T> W2;
     const Vec3<T> w = dmv_w(Pi, h, inv_I_, W2);
-    if (W2 <= table_.quick_w2) [[likely]]
-      return substep(q, Pi, h, w, W2, dPi);
+    if (W2 <= table_.fast_w2) [[likely]]  // one substep, and the fixed point's bound can hold
+      return substep(q, Pi, h, w, W2, dPi, true);
     const int m = dmv_substeps(Pi, h, min_I_);
     if (m == 1) return substep(q, Pi, h, w, W2, dPi);
     counters_.substeps += m;
@@ -615,11 +717,13 @@ class Dmv {
 
  private:
   StepStatus substep(Quaternion<T>& q, const Vec3<T>& Pi, const T& h, const Vec3<T>& w, value_type_t<T> W2,
-                     Vec3<T>& dPi) {
+                     Vec3<T>& dPi, bool fixed_point_ok = false) {
     Vec3<T> c;
-    if (const StepStatus s = dmv_solve(Pi, h, w, W2, I_, r_, d_, table_, options_, c, counters_); s != StepStatus::ok)
+    T alpha;
+    if (const StepStatus s = dmv_solve(Pi, h, w, W2, I_, r_, d_, table_, options_, c, alpha, counters_, fixed_point_ok);
+        s != StepStatus::ok)
       return s;
-    dPi = dmv_apply(c, q, Pi);
+    dPi = dmv_apply(c, alpha, q, Pi);
     return StepStatus::ok;
   }
 
@@ -773,9 +877,11 @@ class PreprocessedDmv {
     value_type_t<T> W2;
     const Vec3<T> w = dmv_w(Pi, h, inv_I, W2);
     Vec3<T> c;
-    if (const StepStatus s = dmv_solve(Pi, h, w, W2, I, r, d, table_, options_, c, counters_); s != StepStatus::ok)
+    T alpha;
+    if (const StepStatus s = dmv_solve(Pi, h, w, W2, I, r, d, table_, options_, c, alpha, counters_);
+        s != StepStatus::ok)
       return s;
-    dPi = dmv_apply(c, q, Pi);
+    dPi = dmv_apply(c, alpha, q, Pi);
     return StepStatus::ok;
   }
 

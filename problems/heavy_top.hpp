@@ -37,6 +37,7 @@ struct HeavyTop {
   // The torque depends on R only through Γ = Rᵀk (core/problem.hpp, ReducedAttitudeProblem).
   const Vec3<T>& reduced_axis() const { return k; }
   Vec3<T> reduced_torque(const Vec3<T>& Gamma) const { return b * Gamma.cross(z0); }
+  Vec3<T> reduced_torque_lever() const { return b * z0; }  // reduced_torque(Γ) = Γ × (b z0)
 
   static constexpr std::array<std::string_view, 1> invariant_names{"momentum_k"};
   std::array<T, 1> invariants(const State<T>& x) const { return {k.dot(spatial_momentum(inertia, x))}; }

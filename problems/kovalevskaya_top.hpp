@@ -53,6 +53,7 @@ struct KovalevskayaTop {
   Vec3<T> torque(const Mat3<T>& R) const { return reduced_torque(Vec3<T>(R.transpose() * k)); }
   const Vec3<T>& reduced_axis() const { return k; }
   Vec3<T> reduced_torque(const Vec3<T>& Gamma) const { return b * Gamma.cross(z0); }
+  Vec3<T> reduced_torque_lever() const { return b * z0; }  // reduced_torque(Γ) = Γ × (b z0)
 
   // K = |(Ω1 + iΩ2)² − (b/I3)(z0_1 + i z0_2)(Γ1 + iΓ2)|².
   T kovalevskaya_integral(const State<T>& x) const {

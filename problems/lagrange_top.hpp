@@ -52,6 +52,7 @@ struct LagrangeTop {
   // The torque depends on R only through Γ = Rᵀk (core/problem.hpp, ReducedAttitudeProblem).
   const Vec3<T>& reduced_axis() const { return k; }
   Vec3<T> reduced_torque(const Vec3<T>& Gamma) const { return Vec3<T>(b * Gamma.y(), -(b * Gamma.x()), T(0)); }
+  Vec3<T> reduced_torque_lever() const { return Vec3<T>(T(0), T(0), b); }  // reduced_torque(Γ) = Γ × (b e3)
 
   static constexpr std::array<std::string_view, 2> invariant_names{"momentum_k", "momentum_psi"};
   std::array<T, 2> invariants(const State<T>& x) const {

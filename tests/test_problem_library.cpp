@@ -182,6 +182,23 @@ TEST(LagrangeTop, SameTorqueAndInvariantsAsTheHeavyTopWithItsData) {
   }
 }
 
+// The gravity tops declare their torque a cross product with a constant lever, reduced_torque(Γ) = Γ × v
+// (core/problem.hpp; the splittings compute it that way): true to round-off at random Γ.
+TEST(ReducedTorqueLever, GravityTopsAreCrossProductsWithTheirLever) {
+  const LagrangeTop<double> lt = tilted_lagrange_top();
+  const HeavyTop<double> ht = test::skew_heavy_top();
+  const KovalevskayaTop<double> kt = KovalevskayaTop<double>::make(0.8, 1.7, Vec3<double>(0.2, 0.3, 0.9).normalized(),
+                                                                   Vec3<double>(0.6, 0.8, 0.0));
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (int i = 0; i < 100; ++i) {
+    const Vec3<double> g(u(rng), u(rng), u(rng));
+    EXPECT_LT((lt.reduced_torque(g) - g.cross(lt.reduced_torque_lever())).norm(), 4 * eps * lt.b * g.norm());
+    EXPECT_LT((ht.reduced_torque(g) - g.cross(ht.reduced_torque_lever())).norm(), 4 * eps * ht.b * g.norm());
+    EXPECT_LT((kt.reduced_torque(g) - g.cross(kt.reduced_torque_lever())).norm(), 4 * eps * kt.b * g.norm());
+  }
+}
+
 // The fast top of Brüls et al. with its body axes relabelled (e3 the symmetry axis) moves the body the
 // same way in the laboratory as the original data (symmetry axis e2) — LGVI on both, T = 0.5.
 TEST(LagrangeTop, FastTopIsTheRelabelledBrulsTop) {
