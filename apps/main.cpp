@@ -123,6 +123,21 @@ bool is_temporary(const std::string& path) {
   return name.size() > 1 && name[0] == '.' && name.find(".tmp-") != std::string::npos;
 }
 
+// Removes what a SIGKILLed earlier run of this checkpoint may have left: a checkpoint is written atomically
+// through ".NAME.tmp-XXXXXX" beside it (runner.cpp), and a kill between its creation and the rename leaves that
+// file. Called when the run the checkpoint belongs to is complete.
+void remove_stale_temporaries(const std::string& checkpoint) {
+  namespace fs = std::filesystem;
+  const fs::path p(checkpoint);
+  const std::string prefix = "." + p.filename().string() + ".tmp-";
+  std::error_code ec;
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() == prefix.size() + 6 && name.compare(0, prefix.size(), prefix) == 0) fs::remove(it->path(), ec);
+  }
+}
+
 int run_command(const RunCommandOptions& cmd) {
   using lgi::app::format_number;
   lgi::app::Scene scene;
@@ -221,7 +236,10 @@ int run_command(const RunCommandOptions& cmd) {
 
   const lgi::IntegrationSummary& s = report.summary;
   if (s.status == lgi::RunStatus::completed) {
-    if (!checkpoint.empty()) std::remove(checkpoint.c_str());  // the run is complete: nothing to resume
+    if (!checkpoint.empty()) {  // the run is complete: nothing to resume
+      std::remove(checkpoint.c_str());
+      remove_stale_temporaries(checkpoint);
+    }
     if (report.rows_not_finite > 0)
       return fail(exit_run_failed, name + ": " + std::to_string(report.rows_not_finite) +
                                        " rows were not written: a column was not finite (energy or an invariant "

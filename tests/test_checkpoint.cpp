@@ -447,6 +447,22 @@ TEST_F(Checkpoints, KilledRunsResumeToTheSameBytes) {
 // A step budget stops a run again and again (a budget counts from each invocation); resuming each time writes
 // the uninterrupted run's bytes. Deterministic: every stop falls on a known step, off the monitor's 1024-step
 // grid and off the output rows.
+// A SIGKILL inside a checkpoint write leaves that write's temporary file (".ck.json.tmp-XXXXXX"); the run that
+// completes removes it with the checkpoint, and leaves other temporary files alone. (Written here by hand: the
+// kill in KilledRunsResumeToTheSameBytes lands inside a write only now and then.)
+TEST_F(Checkpoints, CompletedRunRemovesItsCheckpointsOrphans) {
+  const fs::path file = write("short.json", scene(R"({"method": "lgvi", "dt": 1e-3})", "1", R"({"every": 100})"));
+  const fs::path ck = dir_ / "ck.json", orphan = dir_ / ".ck.json.tmp-AbC123", other = dir_ / ".other.csv.tmp-AbC123";
+  write(orphan.filename().string(), "{\"partial\": ");
+  write(other.filename().string(), "not ours");
+  const Result r = lgi({"run", "-q", file.string(), "-o", (dir_ / "out.csv").string(), "--checkpoint", ck.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(fs::exists(ck));
+  EXPECT_FALSE(fs::exists(orphan));
+  EXPECT_TRUE(fs::exists(other));
+  fs::remove(other);
+}
+
 TEST_F(Checkpoints, BudgetStopsChainOfResumesGivesTheSameBytes) {
   const std::vector<ResumeCase> cases = {
       {"lgvi", scene(R"({"method": "lgvi", "dt": 0.01})", "70", R"({"times": [0.015, 3, 17.777, 33, 50.5]})")},
