@@ -5,14 +5,16 @@
 // h = 0.01; one benchmark iteration is one integrate_batch_lgvi call of `steps_per_call` steps for every body,
 // continuing from where the previous iteration stopped. Kernels (integrators/batch_lgvi.hpp):
 //   per_body   the single-body Lgvi stepper per body (integrate_batch<Lgvi>): the scalar reference
-//   baseline   lane blocks of 4, the build's flags (x86-64: SSE2)
-//   avx2       lane blocks of 8, lgi::batch's AVX2 translation unit (skipped without AVX2+FMA)
+//   baseline   lane blocks of 2, the build's flags (x86-64: SSE2)
+//   avx2       lane blocks of 4, lgi::batch's AVX2 translation unit (skipped without AVX2+FMA)
+//   avx512     lane blocks of 8, lgi::batch's AVX-512 translation unit (skipped without AVX-512F+DQ)
 // each with 1 and 2 threads, for N = 4096 and 65536. The counter s_per_body_step (shown in ns) is the figure to quote.
 //
 // Run (the machine is shared and noisy: quote medians, and ratios from one run):
 //   build/benchmarks/bench_batch --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 // Instructions per body-step under callgrind (no Google Benchmark loop): the plain mode
-//   bench_batch --once KERNEL N STEPS      (KERNEL: per_body | baseline | avx2; 1 thread)
+//   bench_batch --once KERNEL N STEPS      (KERNEL: per_body | baseline | avx2 | avx512; 1 thread; valgrind
+//                                           cannot run AVX-512 code)
 // run at two STEPS values; (Ir(S2) − Ir(S1)) / (N (S2 − S1)) is the per-body-step count.
 #include <lgi/core/batch.hpp>
 #include <lgi/core/so3.hpp>
@@ -53,13 +55,14 @@ lgi::BatchKernel kernel_of(const std::string& name) {
   if (name == "per_body") return lgi::BatchKernel::per_body;
   if (name == "baseline") return lgi::BatchKernel::baseline;
   if (name == "avx2") return lgi::BatchKernel::avx2;
-  std::fprintf(stderr, "bench_batch: unknown kernel '%s' (per_body, baseline, avx2)\n", name.c_str());
+  if (name == "avx512") return lgi::BatchKernel::avx512;
+  std::fprintf(stderr, "bench_batch: unknown kernel '%s' (per_body, baseline, avx2, avx512)\n", name.c_str());
   std::exit(2);
 }
 
 void bm_batch(benchmark::State& st, lgi::BatchKernel kernel, std::size_t n, int threads) {
-  if (kernel == lgi::BatchKernel::avx2 && !lgi::batch_avx2_available()) {
-    st.SkipWithError("avx2 kernel not available");
+  if (!lgi::batch_kernel_available(kernel)) {
+    st.SkipWithError((std::string(lgi::to_string(kernel)) + " kernel not available").c_str());
     return;
   }
   const lgi::HeavyTop<double> top = lgi::HeavyTop<double>::hairer_vilmart();
@@ -93,7 +96,7 @@ int main(int argc, char** argv) {
     std::printf("sum_omega0 %.17g\n", sum);
     return 0;
   }
-  for (const char* name : {"per_body", "baseline", "avx2"})
+  for (const char* name : {"per_body", "baseline", "avx2", "avx512"})
     for (const std::size_t n : {std::size_t{4096}, std::size_t{65536}})
       for (const int threads : {1, 2}) {
         const lgi::BatchKernel kernel = kernel_of(name);

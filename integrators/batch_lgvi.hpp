@@ -20,11 +20,14 @@
 // Kernels (BatchKernel):
 //   baseline   lane blocks of 2 bodies (one SSE2 vector), the build's own flags (x86-64 baseline)
 //   avx2       lane blocks of 4 bodies (one AVX vector), compiled with -mavx2 -mfma -ffp-contract=off in the library
-//              lgi::batch (integrators/batch_lgvi_avx2.cpp); available when that library is linked
+//              lgi::batch (integrators/batch_avx2.cpp); available when that library is linked
 //              (it defines LGI_HAVE_BATCH_AVX2) and the CPU has AVX2 and FMA. No FMA contraction, so the bits
 //              are the baseline's.
+//   avx512     lane blocks of 8 bodies (one zmm vector), compiled with -mavx512f -mavx512dq -ffp-contract=off in
+//              lgi::batch (integrators/batch_avx512.cpp); available when that library is linked (it defines
+//              LGI_HAVE_BATCH_AVX512) and the CPU (and OS) support AVX-512F and DQ. Same bits again.
 //   per_body   integrate_batch<Lgvi> (core/batch.hpp): the single-body stepper per body
-//   automatic  avx2 when available, else baseline; per_body when J is not diagonal
+//   automatic  the widest available of avx512, avx2, baseline; per_body when J is not diagonal
 // Per-body parameters: the heavy top's b (m g ℓ) may differ per body (the span `b`); J, k, z0, h and the
 // stepper options are shared.
 //
@@ -60,14 +63,31 @@ static_assert(status_ok == static_cast<std::uint8_t>(StepStatus::ok) &&
 static_assert(sizeof(StepStatus) == 1);
 inline constexpr int baseline_width = 2;
 inline constexpr int avx2_width = 4;
+inline constexpr int avx512_width = 8;
 #if defined(LGI_HAVE_BATCH_AVX2)
-// In lgi::batch (integrators/batch_lgvi_avx2.cpp): blocks [block_begin, block_end) of avx2_width bodies.
+// In lgi::batch (integrators/batch_avx2.cpp): blocks [block_begin, block_end) of avx2_width bodies.
 void run_blocks_avx2(const LgviParams& p, const LgviIO& io, std::size_t block_begin, std::size_t block_end, double h,
                      std::int64_t n_steps, bool torque);
 #endif
+#if defined(LGI_HAVE_BATCH_AVX512)
+// In lgi::batch (integrators/batch_avx512.cpp): blocks [block_begin, block_end) of avx512_width bodies.
+void run_blocks_avx512(const LgviParams& p, const LgviIO& io, std::size_t block_begin, std::size_t block_end,
+                       double h, std::int64_t n_steps, bool torque);
+#endif
 }  // namespace batch_kernel
 
-enum class BatchKernel : std::uint8_t { automatic, baseline, avx2, per_body };
+enum class BatchKernel : std::uint8_t { automatic, baseline, avx2, per_body, avx512 };
+
+inline const char* to_string(BatchKernel k) {
+  switch (k) {
+    case BatchKernel::automatic: return "automatic";
+    case BatchKernel::baseline: return "baseline";
+    case BatchKernel::avx2: return "avx2";
+    case BatchKernel::avx512: return "avx512";
+    case BatchKernel::per_body: return "per_body";
+  }
+  return "?";
+}
 
 // True when the AVX2 kernel is linked in (lgi::batch) and this CPU runs it.
 inline bool batch_avx2_available() {
@@ -78,12 +98,42 @@ inline bool batch_avx2_available() {
 #endif
 }
 
+// True when the AVX-512 kernel is linked in (lgi::batch) and this CPU (and operating system) runs it.
+inline bool batch_avx512_available() {
+#if defined(LGI_HAVE_BATCH_AVX512)
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+#else
+  return false;
+#endif
+}
+
+// True when `kernel` can run here (automatic and per_body always can).
+inline bool batch_kernel_available(BatchKernel kernel) {
+  switch (kernel) {
+    case BatchKernel::avx2: return batch_avx2_available();
+    case BatchKernel::avx512: return batch_avx512_available();
+    default: return true;
+  }
+}
+
+// The widest lane-block kernel this program and CPU run: avx512, avx2 or baseline.
+inline BatchKernel batch_widest_kernel() {
+  return batch_avx512_available() ? BatchKernel::avx512 : batch_avx2_available() ? BatchKernel::avx2 : BatchKernel::baseline;
+}
+
+inline int batch_kernel_width(BatchKernel kernel) {
+  return kernel == BatchKernel::avx512 ? batch_kernel::avx512_width
+         : kernel == BatchKernel::avx2 ? batch_kernel::avx2_width
+                                       : batch_kernel::baseline_width;
+}
+
 template <class P>
 concept LgviBatchProblem = std::same_as<P, HeavyTop<double>> || std::same_as<P, FreeBody<double>>;
 
 // Integrates every body of `batch` n_steps steps of h with Lgvi<P>(problem, options) (per body: b[i] in place of
 // problem.b when `b` is not empty; heavy top only). Returns the kernel that ran. Throws std::invalid_argument
-// for a bad argument (b's length, b with the free body, avx2 requested but unavailable, h, n_steps, options).
+// for a bad argument (b's length, b with the free body, avx2 or avx512 requested but unavailable, h, n_steps,
+// options).
 template <LgviBatchProblem P>
 BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, double h, std::int64_t n_steps,
                                  const StepperOptions& options = {}, const BatchOptions& batch_options = {},
@@ -95,12 +145,13 @@ BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, 
   if (!b.empty() && b.size() != batch.size())
     throw std::invalid_argument("lgi::integrate_batch_lgvi: per-body b has " + std::to_string(b.size()) +
                                 " entries for " + std::to_string(batch.size()) + " bodies");
-  if (kernel == BatchKernel::avx2 && !batch_avx2_available())
-    throw std::invalid_argument("lgi::integrate_batch_lgvi: the avx2 kernel is not available (lgi::batch not linked, or no AVX2+FMA CPU)");
+  if (!batch_kernel_available(kernel))
+    throw std::invalid_argument(std::string("lgi::integrate_batch_lgvi: the ") + to_string(kernel) +
+                                " kernel is not available (lgi::batch not linked, or the CPU lacks it)");
 
   const Inertia<double> J(problem.inertia);
   if (kernel == BatchKernel::automatic)
-    kernel = !J.diagonal ? BatchKernel::per_body : batch_avx2_available() ? BatchKernel::avx2 : BatchKernel::baseline;
+    kernel = !J.diagonal ? BatchKernel::per_body : batch_widest_kernel();
   if (kernel == BatchKernel::per_body || !J.diagonal) {
     if (b.empty()) {
       integrate_batch<Lgvi>(problem, batch, t0, h, n_steps, options, batch_options);
@@ -157,10 +208,16 @@ BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, 
   io.b = b.empty() ? nullptr : b.data();
   io.n = batch.size();
 
-  const int width = kernel == BatchKernel::avx2 ? batch_kernel::avx2_width : batch_kernel::baseline_width;
+  const int width = batch_kernel_width(kernel);
   const std::size_t blocks = (batch.size() + static_cast<std::size_t>(width) - 1) / static_cast<std::size_t>(width);
   const int threads = detail::batch_threads(batch_options, blocks);
   detail::parallel_slices(blocks, threads, [&](std::size_t begin, std::size_t end) {
+#if defined(LGI_HAVE_BATCH_AVX512)
+    if (kernel == BatchKernel::avx512) {
+      batch_kernel::run_blocks_avx512(p, io, begin, end, h, n_steps, torque);
+      return;
+    }
+#endif
 #if defined(LGI_HAVE_BATCH_AVX2)
     if (kernel == BatchKernel::avx2) {
       batch_kernel::run_blocks_avx2(p, io, begin, end, h, n_steps, torque);

@@ -1,5 +1,6 @@
 // Batches (core/batch.hpp, integrators/batch_lgvi.hpp) against single-body runs, bit for bit: the LGVI kernels
-// (baseline lane blocks of 2, AVX2 blocks of 4 when available) on the heavy top with per-body b and on the free
+// (baseline lane blocks of 2, AVX2 blocks of 4, AVX-512 blocks of 8: each a test instance, skipped with a message
+// where the CPU lacks it) on the heavy top with per-body b and on the free
 // body; random attitudes and a spread of |Ω| so that Newton takes different iteration counts per body; batch
 // sizes that are not multiples of the lane width; 1, 2 and 3 threads; bodies that fail (not_converged,
 // non_finite) in the middle of a run; the generic per-body driver with RKMK4 and with per-body problems.
@@ -19,12 +20,19 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <ostream>
 #include <random>
 #include <set>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace lgi {
+
+// Test parameters print as their names.
+void PrintTo(BatchKernel k, std::ostream* os);
+void PrintTo(BatchKernel k, std::ostream* os) { *os << to_string(k); }
+
 namespace {
 
 struct Outcome {
@@ -83,35 +91,48 @@ BodyBatch make_batch(const std::vector<State<double>>& x) {
   return batch;
 }
 
-std::vector<BatchKernel> kernels() {
-  std::vector<BatchKernel> k{BatchKernel::baseline, BatchKernel::per_body};
-  if (batch_avx2_available()) k.push_back(BatchKernel::avx2);
-  return k;
-}
+// Every kernel, one test instance each: an ISA kernel that this program or CPU lacks is skipped with a message
+// (never a silent pass); test_batch links lgi::batch, so on an x86-64 CPU with AVX2/AVX-512 they all run.
+const BatchKernel all_kernels[] = {BatchKernel::baseline, BatchKernel::avx2, BatchKernel::avx512, BatchKernel::per_body};
 
-const char* kernel_name(BatchKernel k) {
-  switch (k) {
-    case BatchKernel::baseline: return "baseline";
-    case BatchKernel::avx2: return "avx2";
-    case BatchKernel::per_body: return "per_body";
-    case BatchKernel::automatic: return "automatic";
+class BatchKernels : public ::testing::TestWithParam<BatchKernel> {
+ protected:
+  void SetUp() override {
+    if (!batch_kernel_available(GetParam()))
+      GTEST_SKIP() << "the " << to_string(GetParam())
+                   << " kernel is not available here (lgi::batch not linked, or the CPU lacks the instruction set): "
+                      "its bit-identity is NOT checked on this machine";
   }
-  return "?";
-}
+};
 
-TEST(Batch, AvxKernelAvailabilityIsReported) {
-  // Not an assertion on the machine: records which kernels the other tests compared.
-  std::printf("kernels compared: baseline, per_body%s\n", batch_avx2_available() ? ", avx2" : " (no avx2 kernel)");
+std::string kernel_test_name(const ::testing::TestParamInfo<BatchKernel>& info) { return to_string(info.param); }
+
+TEST(Batch, KernelAvailabilityIsReported) {
+  // Records which kernels the other tests compared, and that availability follows the CPU when lgi::batch is linked.
+  std::printf("kernels compared: baseline, per_body%s%s\n", batch_avx2_available() ? ", avx2" : " (no avx2 kernel)",
+              batch_avx512_available() ? ", avx512" : " (no avx512 kernel)");
 #if defined(LGI_HAVE_BATCH_AVX2)
-  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
-    EXPECT_TRUE(batch_avx2_available());
-  }
+  EXPECT_EQ(batch_avx2_available(), __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"));
 #endif
+#if defined(LGI_HAVE_BATCH_AVX512)
+  EXPECT_EQ(batch_avx512_available(), __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq"));
+#endif
+  EXPECT_EQ(batch_widest_kernel(), batch_avx512_available() ? BatchKernel::avx512
+                                   : batch_avx2_available() ? BatchKernel::avx2
+                                                            : BatchKernel::baseline);
+}
+
+// automatic picks the widest kernel available, and says so.
+TEST(Batch, AutomaticPicksTheWidestKernel) {
+  const auto x0 = random_bodies(5, 5.0, 6);
+  BodyBatch batch = make_batch(x0);
+  EXPECT_EQ(integrate_batch_lgvi(HeavyTop<double>::hairer_vilmart(), batch, 0.0, 0.01, 3), batch_widest_kernel());
 }
 
 // Heavy top, per-body b, 37 bodies (not a multiple of the lane widths 2 and 4), 400 steps, h = 0.05, |Ω| up to 15 (h|Ω| up to
 // 0.75 at the start: Newton takes 2 updates a step at small h|Ω|, more for the fast bodies).
-TEST(Batch, HeavyTopLgviKernelsEqualSingleBodyBitForBit) {
+TEST_P(BatchKernels, HeavyTopLgviEqualsSingleBodyBitForBit) {
+  const BatchKernel kernel = GetParam();
   const HeavyTop<double> top = HeavyTop<double>::hairer_vilmart();
   const std::size_t n = 37;
   const double t0 = 0.25, h = 0.05;
@@ -133,16 +154,16 @@ TEST(Batch, HeavyTopLgviKernelsEqualSingleBodyBitForBit) {
   EXPECT_GE(newton_counts.size(), 10u);
   EXPECT_LT(*newton_counts.begin() * 2, *newton_counts.rbegin());
 
-  for (const BatchKernel kernel : kernels())
-    for (const int threads : {1, 2, 3}) {
-      BodyBatch batch = make_batch(x0);
-      const BatchKernel ran = integrate_batch_lgvi(top, batch, t0, h, steps, {}, {.threads = threads}, b, kernel);
-      EXPECT_EQ(ran, kernel);
-      for (std::size_t i = 0; i < n; ++i) expect_identical(batch, i, ref[i], kernel_name(kernel));
-    }
+  for (const int threads : {1, 2, 3}) {
+    BodyBatch batch = make_batch(x0);
+    const BatchKernel ran = integrate_batch_lgvi(top, batch, t0, h, steps, {}, {.threads = threads}, b, kernel);
+    EXPECT_EQ(ran, kernel);
+    for (std::size_t i = 0; i < n; ++i) expect_identical(batch, i, ref[i], to_string(kernel));
+  }
 }
 
-TEST(Batch, FreeBodyLgviKernelsEqualSingleBodyBitForBit) {
+TEST_P(BatchKernels, FreeBodyLgviEqualsSingleBodyBitForBit) {
+  const BatchKernel kernel = GetParam();
   const FreeBody<double> body = FreeBody<double>::hairer_vilmart();
   const std::size_t n = 21;
   const double t0 = 0, h = 0.1;
@@ -150,19 +171,19 @@ TEST(Batch, FreeBodyLgviKernelsEqualSingleBodyBitForBit) {
   const auto x0 = random_bodies(n, 20.0, 2);
   std::vector<Outcome> ref(n);
   for (std::size_t i = 0; i < n; ++i) ref[i] = single(Lgvi<FreeBody<double>>(body), x0[i], t0, h, steps);
-  for (const BatchKernel kernel : kernels())
-    for (const int threads : {1, 3}) {
-      BodyBatch batch = make_batch(x0);
-      integrate_batch_lgvi(body, batch, t0, h, steps, {}, {.threads = threads}, {}, kernel);
-      for (std::size_t i = 0; i < n; ++i) expect_identical(batch, i, ref[i], kernel_name(kernel));
-    }
+  for (const int threads : {1, 3}) {
+    BodyBatch batch = make_batch(x0);
+    integrate_batch_lgvi(body, batch, t0, h, steps, {}, {.threads = threads}, {}, kernel);
+    for (std::size_t i = 0; i < n; ++i) expect_identical(batch, i, ref[i], to_string(kernel));
+  }
 }
 
 // Bodies that fail: with at most 3 Newton updates a step, a heavy top with b = 100 falling from a tilt of 1.2 rad
 // stops with not_converged after a few good steps and the fastest bodies at step 0; b = 1e306 overflows the
 // torque (non_finite); a NaN initial velocity fails at step 0. Their lanes' neighbours must come out exactly
 // as alone.
-TEST(Batch, FailingBodiesKeepLastGoodStateAndDoNotDisturbOtherLanes) {
+TEST_P(BatchKernels, LgviFailingBodiesKeepLastGoodStateAndDoNotDisturbOtherLanes) {
+  const BatchKernel kernel = GetParam();
   const lgi::test::FpTrapsOff traps_off;  // the failing bodies make NaN and ∞ on purpose
   const HeavyTop<double> top = HeavyTop<double>::hairer_vilmart();
   const std::size_t n = 19;
@@ -196,12 +217,11 @@ TEST(Batch, FailingBodiesKeepLastGoodStateAndDoNotDisturbOtherLanes) {
   EXPECT_EQ(ref[2].status, StepStatus::not_converged);
   EXPECT_GT(ref[2].steps, 0);
 
-  for (const BatchKernel kernel : kernels())
-    for (const int threads : {1, 2}) {
-      BodyBatch batch = make_batch(x0);
-      integrate_batch_lgvi(top, batch, t0, h, steps, options, {.threads = threads}, b, kernel);
-      for (std::size_t i = 0; i < n; ++i) expect_identical(batch, i, ref[i], kernel_name(kernel));
-    }
+  for (const int threads : {1, 2}) {
+    BodyBatch batch = make_batch(x0);
+    integrate_batch_lgvi(top, batch, t0, h, steps, options, {.threads = threads}, b, kernel);
+    for (std::size_t i = 0; i < n; ++i) expect_identical(batch, i, ref[i], to_string(kernel));
+  }
 }
 
 // A non-diagonal J is outside the kernels: automatic runs the stepper per body, with the same bits.
@@ -247,6 +267,8 @@ TEST(Batch, BadArgumentsThrowNamingTheArgument) {
   EXPECT_THROW(integrate_batch_lgvi(top, batch, 0.0, 0.1, -1), std::invalid_argument);
   EXPECT_THROW(integrate_batch_lgvi(top, batch, 0.0, 0.1, 10, {}, {.threads = -1}), std::invalid_argument);
 }
+
+INSTANTIATE_TEST_SUITE_P(Batch, BatchKernels, ::testing::ValuesIn(all_kernels), kernel_test_name);
 
 }  // namespace
 }  // namespace lgi

@@ -1,11 +1,11 @@
-// lgi/integrators/batch_lgvi_avx2.cpp — the batched LGVI's lane blocks compiled for AVX2 (library lgi::batch).
+// lgi/integrators/batch_avx2.cpp — the batched kernels' lane blocks compiled for AVX2 (library lgi::batch).
 //
 // Compiled with -mavx2 -mfma -ffp-contract=off (CMakeLists.txt): 4 doubles a vector (lane blocks of 4), and no
 // multiply–add contraction, so every operation rounds as in the baseline build and the results stay
-// bit-identical to the single-body Lgvi (see batch_lgvi.hpp). This file includes nothing but the self-contained kernel header, whose
-// functions live in namespace lgi::batch_kernel::avx2: no inline function compiled here for AVX2 can replace,
-// at link time, one that baseline code calls. batch_lgvi.hpp calls run_blocks_avx2 only after
-// __builtin_cpu_supports("avx2") and ("fma").
+// bit-identical to the single-body steppers (see batch_lgvi.hpp). This file includes nothing but the
+// self-contained kernel headers, whose functions live in namespace lgi::batch_kernel::avx2: no inline function
+// compiled here for AVX2 can replace, at link time, one that baseline code calls. batch_lgvi.hpp calls these
+// only after __builtin_cpu_supports("avx2") and ("fma").
 #define LGI_BATCH_ISA avx2
 #include "batch_lgvi_kernel.hpp"
 
