@@ -23,6 +23,10 @@
 // Hairer, Lubich, Wanner, Geometric Numerical Integration, 2nd ed. (2006), Lemma III.4.2 (dexp⁻¹ as a
 // Bernoulli series), §IV.8.3 Lemma 8.7 (Cayley map).
 //
+// exp's coefficients A = sin θ/θ, B = 2 (sin(θ/2)/θ)²: θ² < 1e-2, Taylor polynomials in θ²; 1e-2 ≤ θ² and
+// θ ≤ π, with core/trig.hpp's polynomial sin (deterministic + − ×, so that a vector kernel computes the same
+// bits: integrators/batch_rkmk.hpp); θ > π, with libm's sin. The Jacobians, log and tan below use libm.
+//
 // Scalars. Every function is a template on T and correct for ceres::Jet: the coefficients A…D are
 // Taylor polynomials in θ² (never sqrt or division at θ = 0) below a threshold where the polynomial is
 // exact to round-off in value *and* first derivative; log takes the angle with atan2, switches to the
@@ -30,6 +34,7 @@
 #pragma once
 
 #include "scalar.hpp"
+#include "trig.hpp"
 
 namespace lgi::so3 {
 
@@ -82,7 +87,13 @@ Coefficients<T> exp_coefficients(const Vec3<T>& w) {
     return {theta2, detail::horner(theta2, a), detail::horner(theta2, b)};
   }
   const T theta = sqrt(theta2);
-  const T s = sin(theta / T(2)) / theta;  // no cancellation in 1 − cos θ = 2 sin²(θ/2)
+  if (value_of(theta) <= trig::max_argument) {  // θ ∈ [0.1, π]: core/trig.hpp's polynomial sin
+    const T s = trig::sin_0_pi(theta / T(2)) / theta;  // no cancellation in 1 − cos θ = 2 sin²(θ/2)
+    return {theta2, trig::sin_0_pi(theta) / theta, T(2) * s * s};
+  }
+  // θ > π (or not finite): the same formulas with libm's sin, which no kernel vectorises bit-identically: the
+  // batch kernels call this function for such lanes (integrators/batch_rkmk_kernel.hpp).
+  const T s = sin(theta / T(2)) / theta;
   return {theta2, sin(theta) / theta, T(2) * s * s};
 }
 
