@@ -81,11 +81,9 @@ Coefficients<T> exp_coefficients(const Vec3<T>& w) {
   using std::sin;
   using std::sqrt;
   const T theta2 = w.squaredNorm();
-  if (value_of(theta2) < small_angle_theta2) {
-    static constexpr double a[] = {1.0, -1.0 / 6, 1.0 / 120, -1.0 / 5040, 1.0 / 362880, -1.0 / 39916800};
-    static constexpr double b[] = {0.5, -1.0 / 24, 1.0 / 720, -1.0 / 40320, 1.0 / 3628800, -1.0 / 479001600};
-    return {theta2, detail::horner(theta2, a), detail::horner(theta2, b)};
-  }
+  static_assert(trig::exp_taylor_theta2 == small_angle_theta2);
+  if (value_of(theta2) < small_angle_theta2)
+    return {theta2, detail::horner(theta2, trig::exp_taylor_A), detail::horner(theta2, trig::exp_taylor_B)};
   const T theta = sqrt(theta2);
   if (value_of(theta) <= trig::max_argument) {  // θ ∈ [0.1, π]: core/trig.hpp's polynomial sin
     const T s = trig::sin_0_pi(theta / T(2)) / theta;  // no cancellation in 1 − cos θ = 2 sin²(θ/2)

@@ -53,6 +53,13 @@ inline constexpr double pi_hi = 0x1.921fb54442d18p+1, pi_lo = 0x1.1a62633145c07p
 // The largest argument of sin_0_pi and cos_0_pi: π rounded down to double (= pi_hi).
 inline constexpr double max_argument = pi_hi;
 
+// exp's coefficients A = sin θ/θ and B = (1 − cos θ)/θ² below θ² = exp_taylor_theta2 (core/so3.hpp): their
+// Taylor polynomials in θ², exact to < 1e-18 relative there. Here so that the batch kernels use the same data.
+inline constexpr double exp_taylor_theta2 = 1e-2;
+inline constexpr double exp_taylor_A[6] = {1.0, -1.0 / 6, 1.0 / 120, -1.0 / 5040, 1.0 / 362880, -1.0 / 39916800};
+inline constexpr double exp_taylor_B[6] = {0.5,           -1.0 / 24,     1.0 / 720,
+                                           -1.0 / 40320, 1.0 / 3628800, -1.0 / 479001600};
+
 namespace detail {
 template <class T>
 constexpr double value(const T& x) {

@@ -4,10 +4,11 @@
 // multiply–add contraction, so every operation rounds as in the baseline build and the results stay
 // bit-identical to the single-body steppers (see batch_lgvi.hpp). This file includes nothing but the
 // self-contained kernel headers, whose functions live in namespace lgi::batch_kernel::avx2: no inline function
-// compiled here for AVX2 can replace, at link time, one that baseline code calls. batch_lgvi.hpp calls these
-// only after __builtin_cpu_supports("avx2") and ("fma").
+// compiled here for AVX2 can replace, at link time, one that baseline code calls. batch_lgvi.hpp and
+// batch_rkmk.hpp call these only after __builtin_cpu_supports("avx2") and ("fma").
 #define LGI_BATCH_ISA avx2
 #include "batch_lgvi_kernel.hpp"
+#include "batch_rkmk_kernel.hpp"
 
 namespace lgi::batch_kernel {
 
@@ -20,6 +21,17 @@ void run_blocks_avx2(const LgviParams& p, const LgviIO& io, std::size_t block_be
     avx2::run_blocks<4, true>(p, io, block_begin, block_end, h, n_steps);
   else
     avx2::run_blocks<4, false>(p, io, block_begin, block_end, h, n_steps);
+}
+
+void rkmk4_blocks_avx2(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t block_begin, std::size_t block_end,
+                       double h, std::int64_t n_steps, bool torque);
+
+void rkmk4_blocks_avx2(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t block_begin, std::size_t block_end,
+                       double h, std::int64_t n_steps, bool torque) {
+  if (torque)
+    avx2::rkmk4_blocks<4, true>(p, io, block_begin, block_end, h, n_steps);
+  else
+    avx2::rkmk4_blocks<4, false>(p, io, block_begin, block_end, h, n_steps);
 }
 
 }  // namespace lgi::batch_kernel

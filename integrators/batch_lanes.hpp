@@ -13,6 +13,13 @@
 // Limits: GCC (or Clang) only — vector extensions, x86 builtins and __builtin_bit_cast.
 #pragma once
 
+#include <cstdint>
+
+namespace lgi::batch_kernel {
+// Status codes written per body; equal to lgi::StepStatus (batch_kernels.hpp static_asserts it).
+inline constexpr std::uint8_t status_ok = 0, status_not_converged = 1, status_non_finite = 2;
+}  // namespace lgi::batch_kernel
+
 #ifndef LGI_BATCH_ISA
 #define LGI_BATCH_ISA baseline
 #endif
@@ -125,6 +132,13 @@ template <int U>
 [[gnu::always_inline]] inline Pack<MV, U> abs(const Pack<MV, U>& a) {
   Pack<MV, U> r;
   for (int u = 0; u < U; ++u) r.x[u] = __builtin_bit_cast(MV, __builtin_bit_cast(MI, a.x[u]) & (MI{} + 0x7fffffffffffffffL));
+  return r;
+}
+// √a lane by lane (vsqrtpd: correctly rounded, as std::sqrt).
+template <int U>
+[[gnu::always_inline]] inline Pack<MV, U> sqrt(const Pack<MV, U>& a) {
+  Pack<MV, U> r;
+  for (int u = 0; u < U; ++u) r.x[u] = sqrt(a.x[u]);
   return r;
 }
 template <int U>

@@ -42,6 +42,7 @@
 #include "../core/inertia.hpp"
 #include "../problems/free_body.hpp"
 #include "../problems/heavy_top.hpp"
+#include "batch_kernels.hpp"
 #include "batch_lgvi_kernel.hpp"
 #include "lgvi.hpp"
 
@@ -57,13 +58,6 @@
 namespace lgi {
 
 namespace batch_kernel {
-static_assert(status_ok == static_cast<std::uint8_t>(StepStatus::ok) &&
-              status_not_converged == static_cast<std::uint8_t>(StepStatus::not_converged) &&
-              status_non_finite == static_cast<std::uint8_t>(StepStatus::non_finite));
-static_assert(sizeof(StepStatus) == 1);
-inline constexpr int baseline_width = 2;
-inline constexpr int avx2_width = 4;
-inline constexpr int avx512_width = 8;
 #if defined(LGI_HAVE_BATCH_AVX2)
 // In lgi::batch (integrators/batch_avx2.cpp): blocks [block_begin, block_end) of avx2_width bodies.
 void run_blocks_avx2(const LgviParams& p, const LgviIO& io, std::size_t block_begin, std::size_t block_end, double h,
@@ -75,57 +69,6 @@ void run_blocks_avx512(const LgviParams& p, const LgviIO& io, std::size_t block_
                        double h, std::int64_t n_steps, bool torque);
 #endif
 }  // namespace batch_kernel
-
-enum class BatchKernel : std::uint8_t { automatic, baseline, avx2, per_body, avx512 };
-
-inline const char* to_string(BatchKernel k) {
-  switch (k) {
-    case BatchKernel::automatic: return "automatic";
-    case BatchKernel::baseline: return "baseline";
-    case BatchKernel::avx2: return "avx2";
-    case BatchKernel::avx512: return "avx512";
-    case BatchKernel::per_body: return "per_body";
-  }
-  return "?";
-}
-
-// True when the AVX2 kernel is linked in (lgi::batch) and this CPU runs it.
-inline bool batch_avx2_available() {
-#if defined(LGI_HAVE_BATCH_AVX2)
-  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-#else
-  return false;
-#endif
-}
-
-// True when the AVX-512 kernel is linked in (lgi::batch) and this CPU (and operating system) runs it.
-inline bool batch_avx512_available() {
-#if defined(LGI_HAVE_BATCH_AVX512)
-  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
-#else
-  return false;
-#endif
-}
-
-// True when `kernel` can run here (automatic and per_body always can).
-inline bool batch_kernel_available(BatchKernel kernel) {
-  switch (kernel) {
-    case BatchKernel::avx2: return batch_avx2_available();
-    case BatchKernel::avx512: return batch_avx512_available();
-    default: return true;
-  }
-}
-
-// The widest lane-block kernel this program and CPU run: avx512, avx2 or baseline.
-inline BatchKernel batch_widest_kernel() {
-  return batch_avx512_available() ? BatchKernel::avx512 : batch_avx2_available() ? BatchKernel::avx2 : BatchKernel::baseline;
-}
-
-inline int batch_kernel_width(BatchKernel kernel) {
-  return kernel == BatchKernel::avx512 ? batch_kernel::avx512_width
-         : kernel == BatchKernel::avx2 ? batch_kernel::avx2_width
-                                       : batch_kernel::baseline_width;
-}
 
 template <class P>
 concept LgviBatchProblem = std::same_as<P, HeavyTop<double>> || std::same_as<P, FreeBody<double>>;

@@ -42,9 +42,6 @@
 
 namespace lgi::batch_kernel {
 
-// Status codes written per body; equal to lgi::StepStatus (batch_lgvi.hpp static_asserts it).
-inline constexpr std::uint8_t status_ok = 0, status_not_converged = 1, status_non_finite = 2;
-
 // What every body of the batch shares: from Lgvi's constructor (Inertia<double>, StepperOptions) and the
 // heavy top's k and z0. b is the default m g ℓ when no per-body array is given.
 struct LgviParams {
