@@ -7,9 +7,9 @@
 // LGVI, integrators/batch_lgvi.hpp) and rkmk4_heavy_top (integrators/batch_rkmk.hpp). Kernels
 // (integrators/batch_kernels.hpp):
 //   per_body   the single-body stepper per body (integrate_batch<Lgvi>, <Rkmk4>): the scalar reference
-//   baseline   lane blocks of 2, the build's flags (x86-64: SSE2)
-//   avx2       lane blocks of 4, lgi::batch's AVX2 translation unit (skipped without AVX2+FMA)
-//   avx512     lane blocks of 8, lgi::batch's AVX-512 translation unit (skipped without AVX-512F+DQ)
+//   baseline   lane blocks of 4, the build's flags (x86-64: SSE2)
+//   avx2       lane blocks of 8, lgi::batch's AVX2 translation unit (skipped without AVX2+FMA)
+//   avx512     lane blocks of 16, lgi::batch's AVX-512 translation unit (skipped without AVX-512F+DQ)
 // each with 1 and 2 threads, for N = 4096 and 65536. The counter s_per_body_step (shown in ns) is the figure to quote.
 //
 // Run (the machine is shared and noisy: quote medians, and ratios from one run):

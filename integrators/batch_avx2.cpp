@@ -1,6 +1,6 @@
 // lgi/integrators/batch_avx2.cpp — the batched kernels' lane blocks compiled for AVX2 (library lgi::batch).
 //
-// Compiled with -mavx2 -mfma -ffp-contract=off (CMakeLists.txt): 4 doubles a vector (lane blocks of 4), and no
+// Compiled with -mavx2 -mfma -ffp-contract=off (CMakeLists.txt): 4 doubles a vector (lane blocks of 8), and no
 // multiply–add contraction, so every operation rounds as in the baseline build and the results stay
 // bit-identical to the single-body steppers (see batch_lgvi.hpp). This file includes nothing but the
 // self-contained kernel headers, whose functions live in namespace lgi::batch_kernel::avx2: no inline function
@@ -18,9 +18,9 @@ void run_blocks_avx2(const LgviParams& p, const LgviIO& io, std::size_t block_be
 void run_blocks_avx2(const LgviParams& p, const LgviIO& io, std::size_t block_begin, std::size_t block_end, double h,
                      std::int64_t n_steps, bool torque) {
   if (torque)
-    avx2::run_blocks<4, true>(p, io, block_begin, block_end, h, n_steps);
+    avx2::run_blocks<8, true>(p, io, block_begin, block_end, h, n_steps);
   else
-    avx2::run_blocks<4, false>(p, io, block_begin, block_end, h, n_steps);
+    avx2::run_blocks<8, false>(p, io, block_begin, block_end, h, n_steps);
 }
 
 void rkmk4_blocks_avx2(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t block_begin, std::size_t block_end,
@@ -29,9 +29,9 @@ void rkmk4_blocks_avx2(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t bloc
 void rkmk4_blocks_avx2(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t block_begin, std::size_t block_end,
                        double h, std::int64_t n_steps, bool torque) {
   if (torque)
-    avx2::rkmk4_blocks<4, true>(p, io, block_begin, block_end, h, n_steps);
+    avx2::rkmk4_blocks<8, true>(p, io, block_begin, block_end, h, n_steps);
   else
-    avx2::rkmk4_blocks<4, false>(p, io, block_begin, block_end, h, n_steps);
+    avx2::rkmk4_blocks<8, false>(p, io, block_begin, block_end, h, n_steps);
 }
 
 }  // namespace lgi::batch_kernel

@@ -18,12 +18,12 @@
 // tests/test_batch.cpp checks all of this.
 //
 // Kernels (BatchKernel):
-//   baseline   lane blocks of 2 bodies (one SSE2 vector), the build's own flags (x86-64 baseline)
-//   avx2       lane blocks of 4 bodies (one AVX vector), compiled with -mavx2 -mfma -ffp-contract=off in the library
+//   baseline   lane blocks of 4 bodies (two SSE2 vectors), the build's own flags (x86-64 baseline)
+//   avx2       lane blocks of 8 bodies (two AVX vectors), compiled with -mavx2 -mfma -ffp-contract=off in the library
 //              lgi::batch (integrators/batch_avx2.cpp); available when that library is linked
 //              (it defines LGI_HAVE_BATCH_AVX2) and the CPU has AVX2 and FMA. No FMA contraction, so the bits
 //              are the baseline's.
-//   avx512     lane blocks of 8 bodies (one zmm vector), compiled with -mavx512f -mavx512dq -ffp-contract=off in
+//   avx512     lane blocks of 16 bodies (two zmm vectors), compiled with -mavx512f -mavx512dq -ffp-contract=off in
 //              lgi::batch (integrators/batch_avx512.cpp); available when that library is linked (it defines
 //              LGI_HAVE_BATCH_AVX512) and the CPU (and OS) support AVX-512F and DQ. Same bits again.
 //   per_body   integrate_batch<Lgvi> (core/batch.hpp): the single-body stepper per body

@@ -22,9 +22,9 @@
 // benign body (R = I, Π = 0, b = 0: Newton converges at once on c = 0), so it neither slows nor disturbs the
 // other lanes. No libm calls: only + − × ÷, comparisons and bit operations.
 //
-// Vectorisation (integrators/batch_lanes.hpp): GCC vector extensions, one machine vector per block (W = 2
-// lanes with SSE2, 4 with AVX2, 8 with AVX-512; a Pack of U vectors allows W = U·VW, measured no faster with
-// AVX2: more spills). Plain lane loops were tried first: GCC 12 left the Newton and update loops scalar
+// Vectorisation (integrators/batch_lanes.hpp): GCC vector extensions, a Pack of U machine vectors per block,
+// W = U·VW lanes (batch_kernels.hpp picks U = 2: W = 4 with SSE2, 8 with AVX2, 16 with AVX-512; faster than
+// U = 1 on Zen 5, measured there). Plain lane loops were tried first: GCC 12 left the Newton and update loops scalar
 // ("control flow in loop"); generic vectors wider than the machine's were lowered to scalar code for ?: and
 // comparisons, hence masks are blended with bit operations and blocks are whole machine vectors.
 //

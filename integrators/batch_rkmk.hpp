@@ -19,7 +19,7 @@
 // becomes non-finite (status non_finite); it keeps its last good state and leaves its lane.
 // tests/test_batch.cpp checks all of this.
 //
-// Kernels: BatchKernel (integrators/batch_kernels.hpp) — baseline (2 lanes), avx2 (4), avx512 (8), per_body,
+// Kernels: BatchKernel (integrators/batch_kernels.hpp) — baseline (4 lanes), avx2 (8), avx512 (16), per_body,
 // automatic (the widest available; per_body when J is not diagonal). Per-body parameters: the heavy top's b
 // (span `b`); J, k, z0 and h are shared.
 //

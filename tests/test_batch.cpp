@@ -1,5 +1,5 @@
 // Batches (core/batch.hpp, integrators/batch_lgvi.hpp) against single-body runs, bit for bit: the LGVI kernels
-// (baseline lane blocks of 2, AVX2 blocks of 4, AVX-512 blocks of 8: each a test instance, skipped with a message
+// (baseline lane blocks of 4, AVX2 blocks of 8, AVX-512 blocks of 16: each a test instance, skipped with a message
 // where the CPU lacks it) on the heavy top with per-body b and on the free
 // body; random attitudes and a spread of |Ω| so that Newton takes different iteration counts per body; batch
 // sizes that are not multiples of the lane width; 1, 2 and 3 threads; bodies that fail (not_converged,
