@@ -75,15 +75,13 @@ struct Coefficients {
   T B;       // (1 − cos θ)/θ²
 };
 
+namespace detail {
+// exp_coefficients for θ² ≥ 1e-2, out of line: the branch is rare in small steps, and inlined into a flattened
+// step it cost the common Taylor path ~30 instructions (benchmarks/exp_count rkmk4_small).
 template <class T>
-Coefficients<T> exp_coefficients(const Vec3<T>& w) {
-  using std::cos;
+[[gnu::noinline]] Coefficients<T> exp_coefficients_trig(const T& theta2) {
   using std::sin;
   using std::sqrt;
-  const T theta2 = w.squaredNorm();
-  static_assert(trig::exp_taylor_theta2 == small_angle_theta2);
-  if (value_of(theta2) < small_angle_theta2)
-    return {theta2, detail::horner(theta2, trig::exp_taylor_A), detail::horner(theta2, trig::exp_taylor_B)};
   const T theta = sqrt(theta2);
   if (value_of(theta) <= trig::max_argument) {  // θ ∈ [0.1, π]: core/trig.hpp's polynomial sin
     const T s = trig::sin_0_pi(theta / T(2)) / theta;  // no cancellation in 1 − cos θ = 2 sin²(θ/2)
@@ -93,6 +91,16 @@ Coefficients<T> exp_coefficients(const Vec3<T>& w) {
   // batch kernels call this function for such lanes (integrators/batch_rkmk_kernel.hpp).
   const T s = sin(theta / T(2)) / theta;
   return {theta2, sin(theta) / theta, T(2) * s * s};
+}
+}  // namespace detail
+
+template <class T>
+Coefficients<T> exp_coefficients(const Vec3<T>& w) {
+  const T theta2 = w.squaredNorm();
+  static_assert(trig::exp_taylor_theta2 == small_angle_theta2);
+  if (value_of(theta2) < small_angle_theta2)
+    return {theta2, detail::horner(theta2, trig::exp_taylor_A), detail::horner(theta2, trig::exp_taylor_B)};
+  return detail::exp_coefficients_trig(theta2);
 }
 
 // A hat(w) + B hat(w)², built entry by entry with hat(w)² = w wᵀ − |w|² I (no 3×3 product): the
