@@ -25,7 +25,8 @@
 //
 // exp's coefficients A = sin θ/θ, B = 2 (sin(θ/2)/θ)²: θ² < 1e-2, Taylor polynomials in θ²; 1e-2 ≤ θ² and
 // θ ≤ π, with core/trig.hpp's polynomial sin (deterministic + − ×, so that a vector kernel computes the same
-// bits: integrators/batch_rkmk.hpp); θ > π, with libm's sin. The Jacobians, log and tan below use libm.
+// bits: integrators/batch_rkmk.hpp) for double and Jets of double; θ > π, and other scalars (long double
+// references, float), with libm's sin. The Jacobians, log and tan below use libm.
 //
 // Scalars. Every function is a template on T and correct for ceres::Jet: the coefficients A…D are
 // Taylor polynomials in θ² (never sqrt or division at θ = 0) below a threshold where the polynomial is
@@ -83,9 +84,13 @@ template <class T>
   using std::sin;
   using std::sqrt;
   const T theta = sqrt(theta2);
-  if (value_of(theta) <= trig::max_argument) {  // θ ∈ [0.1, π]: core/trig.hpp's polynomial sin
-    const T s = trig::sin_0_pi(theta / T(2)) / theta;  // no cancellation in 1 − cos θ = 2 sin²(θ/2)
-    return {theta2, trig::sin_0_pi(theta) / theta, T(2) * s * s};
+  // θ ∈ [0.1, π]: core/trig.hpp's polynomial sin, for double and Jets of double (its coefficients are doubles:
+  // long double and float keep their own libm sin).
+  if constexpr (std::is_same_v<std::remove_cvref_t<decltype(value_of(theta))>, double>) {
+    if (value_of(theta) <= trig::max_argument) {
+      const T s = trig::sin_0_pi(theta / T(2)) / theta;  // no cancellation in 1 − cos θ = 2 sin²(θ/2)
+      return {theta2, trig::sin_0_pi(theta) / theta, T(2) * s * s};
+    }
   }
   // θ > π (or not finite): the same formulas with libm's sin, which no kernel vectorises bit-identically: the
   // batch kernels call this function for such lanes (integrators/batch_rkmk_kernel.hpp).

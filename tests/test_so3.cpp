@@ -418,6 +418,20 @@ TEST(TrigPolynomial, ExpCoefficientsWithinUlpsOnTenthToPi) {
   EXPECT_LE(b_max, 3.4);  // measured 3.366 (libm's sin: 3.366): the formula squares, and so doubles, s's error
 }
 
+// The polynomial's coefficients are doubles: long double (the tests' references) keeps libm's sinl, to its own
+// precision (the polynomial would be off by ~1e-16 here).
+TEST(TrigPolynomial, LongDoubleKeepsItsOwnPrecision) {
+  using L = long double;
+  L worst = 0;
+  for (int i = 0; i <= 1000; ++i) {
+    const L theta = 0.1L + (3.1L - 0.1L) * i / 1000;
+    const so3::Coefficients<L> k = so3::exp_coefficients(Vec3<L>(theta, 0, 0));
+    const L s = std::sin(theta / 2) / theta;
+    worst = std::max({worst, std::fabs(k.A / (std::sin(theta) / theta) - 1), std::fabs(k.B / (2 * s * s) - 1)});
+  }
+  EXPECT_LE(worst, 8 * std::numeric_limits<L>::epsilon());
+}
+
 // At θ = π the coefficients switch from the polynomials to libm: the two agree to round-off there, in value and
 // (Jets) in derivative, and exp stays continuous.
 TEST(TrigPolynomial, SwitchToLibmAtPiIsContinuous) {
