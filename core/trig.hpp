@@ -25,7 +25,8 @@
 // and 3.366 — B's formula squares, so doubles, the error of sin(θ/2)/θ).
 //
 // Scalars: any T with T·double, T + double, double − T, T·T (double, ceres::Jet, the batch kernels' lane
-// packs). Branches read the value part of a Jet. Only templates and constant data here, nothing else, and no
+// packs). Branches read the value part of a Jet. The coefficients are doubles, so the result is only
+// double-accurate: so3::exp_coefficients uses it for double-valued scalars alone (long double keeps sinl). Only templates and constant data here, nothing else, and no
 // includes: the batch kernels' translation units compiled for AVX2/AVX-512 include this header, and an inline
 // non-template function compiled there could be merged by the linker into baseline code. They instantiate
 // the kernels on their own lane types (distinct symbols per instruction set) and never on double.
