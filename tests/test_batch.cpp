@@ -1,8 +1,9 @@
-// Batches (core/batch.hpp, integrators/batch_lgvi.hpp) against single-body runs, bit for bit: the LGVI kernels
-// (baseline lane blocks of 4, AVX2 blocks of 8, AVX-512 blocks of 16: each a test instance, skipped with a message
-// where the CPU lacks it) on the heavy top with per-body b and on the free
-// body; random attitudes and a spread of |Ω| so that Newton takes different iteration counts per body; batch
-// sizes that are not multiples of the lane width; 1, 2 and 3 threads; bodies that fail (not_converged,
+// Batches (core/batch.hpp, integrators/batch_lgvi.hpp, batch_rkmk.hpp) against single-body runs, bit for bit: the
+// LGVI and RKMK4 kernels (baseline lane blocks of 4, AVX2 blocks of 8, AVX-512 blocks of 16, per_body: each a test
+// instance, skipped with a message where the CPU lacks it) on the heavy top with per-body b and on the free body;
+// random attitudes and a spread of |Ω| so that Newton takes different iteration counts per body (LGVI) and every
+// branch of exp's coefficients is taken — Taylor, polynomial sin, libm beyond π — in neighbouring lanes (RKMK4);
+// batch sizes that are not multiples of the lane width; 1, 2 and 3 threads; bodies that fail (not_converged,
 // non_finite) in the middle of a run; the generic per-body driver with RKMK4 and with per-body problems.
 // The reference is always a fresh single-body Lgvi (or Rkmk4) stepper stepped by hand.
 #include "fp_traps.hpp"
