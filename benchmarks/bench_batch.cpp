@@ -1,22 +1,27 @@
-// benchmarks/bench_batch.cpp — ns per body-step of the batched kick + LGVI on the heavy top (issue 8).
+// benchmarks/bench_batch.cpp — ns per body-step of the batched kick + LGVI and RKMK4 on the heavy top (issue 8).
 //
 // N Hairer–Vilmart heavy tops (J = diag(0.6, 0.8, 1), b = 1, k = z0 = e3), uniformly random attitudes, body
 // momenta JΩ in random directions with |JΩ| uniform in [0.5, 2] × |(1.8, 0.4, −0.9)| (the bench_steps body),
-// h = 0.01; one benchmark iteration is one integrate_batch_lgvi call of `steps_per_call` steps for every body,
-// continuing from where the previous iteration stopped. Kernels (integrators/batch_lgvi.hpp):
-//   per_body   the single-body Lgvi stepper per body (integrate_batch<Lgvi>): the scalar reference
+// h = 0.01; one benchmark iteration is one integrate_batch_lgvi (integrate_batch_rkmk4) call of `steps_per_call`
+// steps for every body, continuing from where the previous iteration stopped. Methods: lgvi_heavy_top (kick +
+// LGVI, integrators/batch_lgvi.hpp) and rkmk4_heavy_top (integrators/batch_rkmk.hpp). Kernels
+// (integrators/batch_kernels.hpp):
+//   per_body   the single-body stepper per body (integrate_batch<Lgvi>, <Rkmk4>): the scalar reference
 //   baseline   lane blocks of 4, the build's flags (x86-64: SSE2)
 //   avx2       lane blocks of 8, lgi::batch's AVX2 translation unit (skipped without AVX2+FMA)
+//   avx512     lane blocks of 16, lgi::batch's AVX-512 translation unit (skipped without AVX-512F+DQ)
 // each with 1 and 2 threads, for N = 4096 and 65536. The counter s_per_body_step (shown in ns) is the figure to quote.
 //
 // Run (the machine is shared and noisy: quote medians, and ratios from one run):
 //   build/benchmarks/bench_batch --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 // Instructions per body-step under callgrind (no Google Benchmark loop): the plain mode
-//   bench_batch --once KERNEL N STEPS      (KERNEL: per_body | baseline | avx2; 1 thread)
+//   bench_batch --once KERNEL N STEPS [METHOD]   (KERNEL: per_body | baseline | avx2 | avx512; METHOD: lgvi
+//                                                 (default) | rkmk4; 1 thread; valgrind cannot run AVX-512 code)
 // run at two STEPS values; (Ir(S2) − Ir(S1)) / (N (S2 − S1)) is the per-body-step count.
 #include <lgi/core/batch.hpp>
 #include <lgi/core/so3.hpp>
 #include <lgi/integrators/batch_lgvi.hpp>
+#include <lgi/integrators/batch_rkmk.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -53,19 +58,27 @@ lgi::BatchKernel kernel_of(const std::string& name) {
   if (name == "per_body") return lgi::BatchKernel::per_body;
   if (name == "baseline") return lgi::BatchKernel::baseline;
   if (name == "avx2") return lgi::BatchKernel::avx2;
-  std::fprintf(stderr, "bench_batch: unknown kernel '%s' (per_body, baseline, avx2)\n", name.c_str());
+  if (name == "avx512") return lgi::BatchKernel::avx512;
+  std::fprintf(stderr, "bench_batch: unknown kernel '%s' (per_body, baseline, avx2, avx512)\n", name.c_str());
   std::exit(2);
 }
 
-void bm_batch(benchmark::State& st, lgi::BatchKernel kernel, std::size_t n, int threads) {
-  if (kernel == lgi::BatchKernel::avx2 && !lgi::batch_avx2_available()) {
-    st.SkipWithError("avx2 kernel not available");
+enum class Method { lgvi, rkmk4 };
+
+lgi::BatchKernel run(Method method, lgi::BodyBatch& batch, std::int64_t steps, lgi::BatchKernel kernel, int threads) {
+  const lgi::HeavyTop<double> top = lgi::HeavyTop<double>::hairer_vilmart();
+  if (method == Method::lgvi) return lgi::integrate_batch_lgvi(top, batch, 0.0, h, steps, {}, {.threads = threads}, {}, kernel);
+  return lgi::integrate_batch_rkmk4(top, batch, 0.0, h, steps, {}, {.threads = threads}, {}, kernel);
+}
+
+void bm_batch(benchmark::State& st, Method method, lgi::BatchKernel kernel, std::size_t n, int threads) {
+  if (!lgi::batch_kernel_available(kernel)) {
+    st.SkipWithError((std::string(lgi::to_string(kernel)) + " kernel not available").c_str());
     return;
   }
-  const lgi::HeavyTop<double> top = lgi::HeavyTop<double>::hairer_vilmart();
   lgi::BodyBatch batch = ensemble(n);
   for (auto _ : st) {
-    lgi::integrate_batch_lgvi(top, batch, 0.0, h, steps_per_call, {}, {.threads = threads}, {}, kernel);
+    run(method, batch, steps_per_call, kernel, threads);
     benchmark::ClobberMemory();
   }
   for (std::size_t i = 0; i < n; ++i)
@@ -82,28 +95,34 @@ void bm_batch(benchmark::State& st, lgi::BatchKernel kernel, std::size_t n, int 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc == 5 && std::string(argv[1]) == "--once") {  // for callgrind
+  if ((argc == 5 || argc == 6) && std::string(argv[1]) == "--once") {  // for callgrind
     const lgi::BatchKernel kernel = kernel_of(argv[2]);
     const auto n = static_cast<std::size_t>(std::atol(argv[3]));
     const std::int64_t steps = std::atol(argv[4]);
+    const std::string m = argc == 6 ? argv[5] : "lgvi";
+    if (m != "lgvi" && m != "rkmk4") {
+      std::fprintf(stderr, "bench_batch: unknown method '%s' (lgvi, rkmk4)\n", m.c_str());
+      return 2;
+    }
     lgi::BodyBatch batch = ensemble(n);
-    lgi::integrate_batch_lgvi(lgi::HeavyTop<double>::hairer_vilmart(), batch, 0.0, h, steps, {}, {}, {}, kernel);
+    run(m == "lgvi" ? Method::lgvi : Method::rkmk4, batch, steps, kernel, 1);
     double sum = 0;
     for (std::size_t i = 0; i < n; ++i) sum += batch.Omega[0][i];
     std::printf("sum_omega0 %.17g\n", sum);
     return 0;
   }
-  for (const char* name : {"per_body", "baseline", "avx2"})
-    for (const std::size_t n : {std::size_t{4096}, std::size_t{65536}})
-      for (const int threads : {1, 2}) {
-        const lgi::BatchKernel kernel = kernel_of(name);
-        benchmark::RegisterBenchmark(
-            (std::string("lgvi_heavy_top/") + name + "/N:" + std::to_string(n) + "/threads:" + std::to_string(threads))
-                .c_str(),
-            [=](benchmark::State& st) { bm_batch(st, kernel, n, threads); })
-            ->Unit(benchmark::kMillisecond)
-            ->UseRealTime();
-      }
+  for (const Method method : {Method::lgvi, Method::rkmk4})
+    for (const char* name : {"per_body", "baseline", "avx2", "avx512"})
+      for (const std::size_t n : {std::size_t{4096}, std::size_t{65536}})
+        for (const int threads : {1, 2}) {
+          const lgi::BatchKernel kernel = kernel_of(name);
+          benchmark::RegisterBenchmark((std::string(method == Method::lgvi ? "lgvi_heavy_top/" : "rkmk4_heavy_top/") +
+                                        name + "/N:" + std::to_string(n) + "/threads:" + std::to_string(threads))
+                                           .c_str(),
+                                       [=](benchmark::State& st) { bm_batch(st, method, kernel, n, threads); })
+              ->Unit(benchmark::kMillisecond)
+              ->UseRealTime();
+        }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -8,8 +8,9 @@
 //
 // i.e. exactly what a single-body run does (time t_n = t0 + n·h as in core/driver.hpp), so every method is
 // batchable and its batch results equal its single-body results bit for bit. integrate_batch_each runs
-// that loop per body (honestly scalar; threads over bodies); integrators/batch_lgvi.hpp adds a kernel that
-// vectorises the LGVI across bodies for the heavy top and the free body and gives the same bits.
+// that loop per body (honestly scalar; threads over bodies); integrators/batch_lgvi.hpp and batch_rkmk.hpp add
+// kernels that vectorise the LGVI and RKMK4 across bodies for the heavy top and the free body (diagonal J) and
+// give the same bits.
 //
 // Layout (structure of arrays, so that a kernel loads W consecutive bodies into one vector register):
 //   R[3r + c][i]   entry (r, c) of body i's attitude        Omega[j][i]   body angular velocity
@@ -21,7 +22,8 @@
 // single-body drivers.
 //
 // Per-body parameters: integrate_batch takes either one problem (shared) or a function body index →
-// problem; the LGVI kernel takes a per-body b (m g ℓ) for the heavy top (batch_lgvi.hpp).
+// problem; the LGVI and RKMK4 kernels take a per-body b (m g ℓ) for the heavy top (batch_lgvi.hpp,
+// batch_rkmk.hpp).
 // Threads: BatchOptions::threads workers over contiguous ranges of bodies (0: all hardware threads).
 // Bodies are independent, so results do not depend on the number of threads.
 #pragma once

@@ -23,6 +23,11 @@
 // Hairer, Lubich, Wanner, Geometric Numerical Integration, 2nd ed. (2006), Lemma III.4.2 (dexp⁻¹ as a
 // Bernoulli series), §IV.8.3 Lemma 8.7 (Cayley map).
 //
+// exp's coefficients A = sin θ/θ, B = 2 (sin(θ/2)/θ)²: θ² < 1e-2, Taylor polynomials in θ²; 1e-2 ≤ θ² and
+// θ ≤ π, with core/trig.hpp's polynomial sin (deterministic + − ×, so that a vector kernel computes the same
+// bits: integrators/batch_rkmk.hpp) for double and Jets of double; θ > π, and other scalars (long double
+// references, float), with libm's sin. The Jacobians, log and tan below use libm.
+//
 // Scalars. Every function is a template on T and correct for ceres::Jet: the coefficients A…D are
 // Taylor polynomials in θ² (never sqrt or division at θ = 0) below a threshold where the polynomial is
 // exact to round-off in value *and* first derivative; log takes the angle with atan2, switches to the
@@ -30,6 +35,7 @@
 #pragma once
 
 #include "scalar.hpp"
+#include "trig.hpp"
 
 namespace lgi::so3 {
 
@@ -70,20 +76,36 @@ struct Coefficients {
   T B;       // (1 − cos θ)/θ²
 };
 
+namespace detail {
+// exp_coefficients for θ² ≥ 1e-2, out of line: the branch is rare in small steps, and inlined into a flattened
+// step it cost the common Taylor path ~30 instructions (benchmarks/exp_count rkmk4_small).
 template <class T>
-Coefficients<T> exp_coefficients(const Vec3<T>& w) {
-  using std::cos;
+[[gnu::noinline]] Coefficients<T> exp_coefficients_trig(const T& theta2) {
   using std::sin;
   using std::sqrt;
-  const T theta2 = w.squaredNorm();
-  if (value_of(theta2) < small_angle_theta2) {
-    static constexpr double a[] = {1.0, -1.0 / 6, 1.0 / 120, -1.0 / 5040, 1.0 / 362880, -1.0 / 39916800};
-    static constexpr double b[] = {0.5, -1.0 / 24, 1.0 / 720, -1.0 / 40320, 1.0 / 3628800, -1.0 / 479001600};
-    return {theta2, detail::horner(theta2, a), detail::horner(theta2, b)};
-  }
   const T theta = sqrt(theta2);
-  const T s = sin(theta / T(2)) / theta;  // no cancellation in 1 − cos θ = 2 sin²(θ/2)
+  // θ ∈ [0.1, π]: core/trig.hpp's polynomial sin, for double and Jets of double (its coefficients are doubles:
+  // long double and float keep their own libm sin).
+  if constexpr (std::is_same_v<std::remove_cvref_t<decltype(value_of(theta))>, double>) {
+    if (value_of(theta) <= trig::max_argument) {
+      const T s = trig::sin_0_pi(theta / T(2)) / theta;  // no cancellation in 1 − cos θ = 2 sin²(θ/2)
+      return {theta2, trig::sin_0_pi(theta) / theta, T(2) * s * s};
+    }
+  }
+  // θ > π (or not finite): the same formulas with libm's sin, which no kernel vectorises bit-identically: the
+  // batch kernels call this function for such lanes (integrators/batch_rkmk_kernel.hpp).
+  const T s = sin(theta / T(2)) / theta;
   return {theta2, sin(theta) / theta, T(2) * s * s};
+}
+}  // namespace detail
+
+template <class T>
+Coefficients<T> exp_coefficients(const Vec3<T>& w) {
+  const T theta2 = w.squaredNorm();
+  static_assert(trig::exp_taylor_theta2 == small_angle_theta2);
+  if (value_of(theta2) < small_angle_theta2)
+    return {theta2, detail::horner(theta2, trig::exp_taylor_A), detail::horner(theta2, trig::exp_taylor_B)};
+  return detail::exp_coefficients_trig(theta2);
 }
 
 // A hat(w) + B hat(w)², built entry by entry with hat(w)² = w wᵀ − |w|² I (no 3×3 product): the

@@ -22,27 +22,25 @@
 // benign body (R = I, Π = 0, b = 0: Newton converges at once on c = 0), so it neither slows nor disturbs the
 // other lanes. No libm calls: only + − × ÷, comparisons and bit operations.
 //
-// Vectorisation: GCC vector extensions, one machine vector per block by default (W = 2 lanes with SSE2,
-// W = 4 with AVX2; a Pack of U vectors allows W = 2U or 4U, measured no faster: more spills). Plain lane
-// loops were tried first: GCC 12 left the Newton and update loops scalar ("control flow in loop"); generic
-// vectors wider than the machine's were lowered to scalar code for ?: and comparisons, hence masks are
-// blended with bit operations and blocks are one machine vector wide.
+// Vectorisation (integrators/batch_lanes.hpp): GCC vector extensions, a Pack of U machine vectors per block,
+// W = U·VW lanes (batch_kernels.hpp picks U = 2: W = 4 with SSE2, 8 with AVX2, 16 with AVX-512; faster than
+// U = 1 on Zen 5, measured there). Plain lane loops were tried first: GCC 12 left the Newton and update loops scalar
+// ("control flow in loop"); generic vectors wider than the machine's were lowered to scalar code for ?: and
+// comparisons, hence masks are blended with bit operations and blocks are whole machine vectors.
 //
 // Limits: GCC (or Clang) only — vector extensions and __builtin_bit_cast; diagonal J; double.
 //
-// Self-contained on purpose (no Eigen, no standard-library functions): integrators/batch_lgvi_avx2.cpp
-// compiles this header with -mavx2 -mfma -ffp-contract=off, and every function here lives in the namespace
-// named by LGI_BATCH_ISA, so no inline function compiled for AVX2 can be merged by the linker into code
-// that runs on the baseline instruction set.
+// Self-contained on purpose (no Eigen, no standard-library functions): integrators/batch_avx2.cpp compiles
+// this header with -mavx2 -mfma -ffp-contract=off and integrators/batch_avx512.cpp with -mavx512f -mavx512dq
+// -ffp-contract=off, and every function here lives in the namespace named by LGI_BATCH_ISA, so no inline
+// function compiled for AVX2 or AVX-512 can be merged by the linker into code that runs on the baseline
+// instruction set.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 
 namespace lgi::batch_kernel {
-
-// Status codes written per body; equal to lgi::StepStatus (batch_lgvi.hpp static_asserts it).
-inline constexpr std::uint8_t status_ok = 0, status_not_converged = 1, status_non_finite = 2;
 
 // What every body of the batch shares: from Lgvi's constructor (Inertia<double>, StepperOptions) and the
 // heavy top's k and z0. b is the default m g ℓ when no per-body array is given.
@@ -71,133 +69,9 @@ struct LgviIO {
 
 }  // namespace lgi::batch_kernel
 
-#ifndef LGI_BATCH_ISA
-#define LGI_BATCH_ISA baseline
-#endif
+#include "batch_lanes.hpp"
 
 namespace lgi::batch_kernel::LGI_BATCH_ISA {
-
-// Lanes: GCC vector extensions (element-wise IEEE operations). A machine vector MV holds VW doubles — 2 with
-// SSE2, 4 when the translation unit is compiled with AVX — and a block of W = U·VW lanes is a Pack of U of
-// them, so that U independent dependency chains interleave (the Newton solve is a long chain of latencies).
-// MI holds comparison masks (−1 true, 0 false).
-#if defined(__AVX__)
-typedef double MV __attribute__((vector_size(32)));
-typedef long MI __attribute__((vector_size(32)));
-inline int movemask(const MI& m) { return __builtin_ia32_movmskpd256(__builtin_bit_cast(MV, m)); }
-#else
-typedef double MV __attribute__((vector_size(16)));
-typedef long MI __attribute__((vector_size(16)));
-#if defined(__SSE2__)
-inline int movemask(const MI& m) { return __builtin_ia32_movmskpd(__builtin_bit_cast(MV, m)); }
-#else
-inline int movemask(const MI& m) { return (m[0] != 0) | (m[1] != 0) << 1; }
-#endif
-#endif
-inline constexpr int VW = static_cast<int>(sizeof(MV) / sizeof(double));
-
-template <class M, int U>
-struct Pack {
-  M x[U];
-};
-#define LGI_PACK_BINARY(op)                                                              \
-  template <class M, int U>                                                              \
-  [[gnu::always_inline]] inline Pack<M, U> operator op(const Pack<M, U>& a, const Pack<M, U>& b) { \
-    Pack<M, U> r;                                                                        \
-    for (int u = 0; u < U; ++u) r.x[u] = a.x[u] op b.x[u];                               \
-    return r;                                                                            \
-  }                                                                                      \
-  template <class M, int U>                                                              \
-  [[gnu::always_inline]] inline Pack<M, U> operator op(double a, const Pack<M, U>& b) {  \
-    Pack<M, U> r;                                                                        \
-    for (int u = 0; u < U; ++u) r.x[u] = a op b.x[u];                                    \
-    return r;                                                                            \
-  }                                                                                      \
-  template <class M, int U>                                                              \
-  [[gnu::always_inline]] inline Pack<M, U> operator op(const Pack<M, U>& a, double b) {  \
-    Pack<M, U> r;                                                                        \
-    for (int u = 0; u < U; ++u) r.x[u] = a.x[u] op b;                                    \
-    return r;                                                                            \
-  }
-LGI_PACK_BINARY(+)
-LGI_PACK_BINARY(-)
-LGI_PACK_BINARY(*)
-LGI_PACK_BINARY(/)
-#undef LGI_PACK_BINARY
-#define LGI_PACK_COMPARE(op)                                                                      \
-  template <int U>                                                                                \
-  [[gnu::always_inline]] inline Pack<MI, U> operator op(const Pack<MV, U>& a, const Pack<MV, U>& b) { \
-    Pack<MI, U> r;                                                                                \
-    for (int u = 0; u < U; ++u) r.x[u] = a.x[u] op b.x[u];                                        \
-    return r;                                                                                     \
-  }                                                                                               \
-  template <int U>                                                                                \
-  [[gnu::always_inline]] inline Pack<MI, U> operator op(const Pack<MV, U>& a, double b) {         \
-    Pack<MI, U> r;                                                                                \
-    for (int u = 0; u < U; ++u) r.x[u] = a.x[u] op b;                                             \
-    return r;                                                                                     \
-  }
-LGI_PACK_COMPARE(<)
-LGI_PACK_COMPARE(<=)
-LGI_PACK_COMPARE(==)
-#undef LGI_PACK_COMPARE
-#define LGI_PACK_BITWISE(op)                                                                      \
-  template <int U>                                                                                \
-  [[gnu::always_inline]] inline Pack<MI, U> operator op(const Pack<MI, U>& a, const Pack<MI, U>& b) { \
-    Pack<MI, U> r;                                                                                \
-    for (int u = 0; u < U; ++u) r.x[u] = a.x[u] op b.x[u];                                        \
-    return r;                                                                                     \
-  }
-LGI_PACK_BITWISE(&)
-LGI_PACK_BITWISE(|)
-#undef LGI_PACK_BITWISE
-template <int U>
-[[gnu::always_inline]] inline Pack<MV, U> operator-(const Pack<MV, U>& a) {
-  Pack<MV, U> r;
-  for (int u = 0; u < U; ++u) r.x[u] = -a.x[u];
-  return r;
-}
-template <int U>
-[[gnu::always_inline]] inline Pack<MI, U> operator~(const Pack<MI, U>& a) {
-  Pack<MI, U> r;
-  for (int u = 0; u < U; ++u) r.x[u] = ~a.x[u];
-  return r;
-}
-// out = mask ? a : b lane by lane, as bit operations.
-template <int U>
-[[gnu::always_inline]] inline void select(Pack<MV, U>& out, const Pack<MI, U>& mask, const Pack<MV, U>& a,
-                                          const Pack<MV, U>& b) {
-  for (int u = 0; u < U; ++u)
-    out.x[u] = __builtin_bit_cast(MV, (mask.x[u] & __builtin_bit_cast(MI, a.x[u])) | (~mask.x[u] & __builtin_bit_cast(MI, b.x[u])));
-}
-// |a| (clears the sign bit, as fabs).
-template <int U>
-[[gnu::always_inline]] inline Pack<MV, U> abs(const Pack<MV, U>& a) {
-  Pack<MV, U> r;
-  for (int u = 0; u < U; ++u) r.x[u] = __builtin_bit_cast(MV, __builtin_bit_cast(MI, a.x[u]) & (MI{} + 0x7fffffffffffffffL));
-  return r;
-}
-template <int U>
-[[gnu::always_inline]] inline Pack<MI, U> all_true() {
-  Pack<MI, U> r;
-  for (int u = 0; u < U; ++u) r.x[u] = MI{} - 1;
-  return r;
-}
-// Bit l set where lane l of the mask is true.
-template <int U>
-[[gnu::always_inline]] inline int bits(const Pack<MI, U>& m) {
-  int r = 0;
-  for (int u = 0; u < U; ++u) r |= movemask(m.x[u]) << (u * VW);
-  return r;
-}
-template <class M, int U>
-[[gnu::always_inline]] inline auto lane(const Pack<M, U>& a, int l) {
-  return a.x[l / VW][l % VW];
-}
-template <class M, int U, class T>
-[[gnu::always_inline]] inline void set_lane(Pack<M, U>& a, int l, T v) {
-  a.x[l / VW][l % VW] = v;
-}
 
 // One block of W lanes, bodies first … first + W − 1 (lanes past io.n are benign padding), n_steps steps.
 template <int W, bool Torque>

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -363,6 +364,88 @@ TYPED_TEST(So3Test, TaylorBranchesAreContinuous) {
   const double below = so3::jacobian_inverse_coefficient(std::nextafter(so3::small_angle_theta2, 0.0));
   const double above = so3::jacobian_inverse_coefficient(std::nextafter(so3::small_angle_theta2, 1.0));
   EXPECT_NEAR(above / below, 1.0, 12 / so3::small_angle_theta2 * kEps);
+}
+
+// core/trig.hpp's polynomial sin/cos and exp's coefficients from them, against long double over dense samples of
+// their whole ranges: the error in units of the last place of the correctly rounded value. libm's formulas for
+// the same coefficients (the branch exp_coefficients used before) are measured alongside for comparison.
+// The bounds are the measured maxima (g++ 12, x86-64, glibc's long double sin and cos as the truth) rounded up to
+// the next 0.1 ulp.
+double ulp_error(double approx, long double truth) {
+  const double t = static_cast<double>(truth);
+  const double ulp = std::nextafter(std::abs(t), std::numeric_limits<double>::infinity()) - std::abs(t);
+  return static_cast<double>(std::fabs(static_cast<long double>(approx) - truth) / ulp);
+}
+
+TEST(TrigPolynomial, SinAndCosWithinAnUlpOnZeroToPi) {
+  const int n = 1000000;
+  double sin_max = 0, cos_max = 0, sin_at = 0, cos_at = 0, sin_libm = 0, cos_libm = 0;
+  for (int i = 0; i <= n; ++i) {
+    const double x = trig::max_argument * i / n;
+    const double s = trig::sin_0_pi(x), c = trig::cos_0_pi(x);
+    const long double xl = x, S = std::sin(xl), C = std::cos(xl);
+    if (i > 0 && ulp_error(s, S) > sin_max) sin_max = ulp_error(s, S), sin_at = x;
+    if (ulp_error(c, C) > cos_max) cos_max = ulp_error(c, C), cos_at = x;
+    if (i > 0) sin_libm = std::max(sin_libm, ulp_error(std::sin(x), S));
+    cos_libm = std::max(cos_libm, ulp_error(std::cos(x), C));
+  }
+  std::printf("polynomial sin on [0, pi]: max %.3f ulp (at %.6f); cos: max %.3f ulp (at %.6f); libm: sin %.3f ulp, "
+              "cos %.3f ulp\n",
+              sin_max, sin_at, cos_max, cos_at, sin_libm, cos_libm);
+  EXPECT_LE(sin_max, 0.8);  // measured 0.775 (libm 0.515)
+  EXPECT_LE(cos_max, 0.9);  // measured 0.815 (libm 0.515)
+}
+
+TEST(TrigPolynomial, ExpCoefficientsWithinUlpsOnTenthToPi) {
+  const int n = 1000000;
+  double a_max = 0, b_max = 0, a_libm = 0, b_libm = 0, a_at = 0, b_at = 0;
+  const double lo = 0.1, hi = trig::max_argument;
+  for (int i = 0; i <= n; ++i) {
+    const double theta = i == n ? hi : lo + (hi - lo) * i / n;
+    const long double tl = theta;
+    const long double A = std::sin(tl) / tl, s2 = std::sin(tl / 2) / tl, B = 2 * s2 * s2;
+    const so3::Coefficients<double> k = so3::exp_coefficients(Vec3d(theta, 0, 0));
+    if (ulp_error(k.A, A) > a_max) a_max = ulp_error(k.A, A), a_at = theta;
+    if (ulp_error(k.B, B) > b_max) b_max = ulp_error(k.B, B), b_at = theta;
+    const double s = std::sin(theta / 2) / theta;  // the libm formulas
+    a_libm = std::max(a_libm, ulp_error(std::sin(theta) / theta, A));
+    b_libm = std::max(b_libm, ulp_error(2 * s * s, B));
+  }
+  std::printf("exp coefficients on [0.1, pi], polynomial: A = sin(t)/t max %.3f ulp (at %.6f), B = (1 - cos t)/t^2 "
+              "max %.3f ulp (at %.6f); libm formulas: A %.3f ulp, B %.3f ulp\n",
+              a_max, a_at, b_max, b_at, a_libm, b_libm);
+  EXPECT_LE(a_max, 1.5);  // measured 1.485 (libm's sin: 1.467)
+  EXPECT_LE(b_max, 3.4);  // measured 3.366 (libm's sin: 3.366): the formula squares, and so doubles, s's error
+}
+
+// The polynomial's coefficients are doubles: long double (the tests' references) keeps libm's sinl, to its own
+// precision (the polynomial would be off by ~1e-16 here).
+TEST(TrigPolynomial, LongDoubleKeepsItsOwnPrecision) {
+  using L = long double;
+  L worst = 0;
+  for (int i = 0; i <= 1000; ++i) {
+    const L theta = 0.1L + (3.1L - 0.1L) * i / 1000;
+    const so3::Coefficients<L> k = so3::exp_coefficients(Vec3<L>(theta, 0, 0));
+    const L s = std::sin(theta / 2) / theta;
+    worst = std::max({worst, std::fabs(k.A / (std::sin(theta) / theta) - 1), std::fabs(k.B / (2 * s * s) - 1)});
+  }
+  EXPECT_LE(worst, 8 * std::numeric_limits<L>::epsilon());
+}
+
+// At θ = π the coefficients switch from the polynomials to libm: the two agree to round-off there, in value and
+// (Jets) in derivative, and exp stays continuous.
+TEST(TrigPolynomial, SwitchToLibmAtPiIsContinuous) {
+  const double below = trig::max_argument, above = std::nextafter(below, 4.0);
+  const so3::Coefficients<double> kb = so3::exp_coefficients(Vec3d(below, 0, 0));
+  const so3::Coefficients<double> ka = so3::exp_coefficients(Vec3d(above, 0, 0));
+  EXPECT_NEAR(kb.A, ka.A, 4 * kEps * kb.B);  // A ≈ 4e-17 there: compare on the scale of B ≈ 0.2
+  EXPECT_NEAR(kb.B, ka.B, 4 * kEps * kb.B);
+  for (const Vec3d& n : axes()) {
+    const Vec3<Jet3> wb = lift<Jet3>(Vec3d(below * n)), wa = lift<Jet3>(Vec3d(above * n));
+    const Mat3<Jet3> Rb = so3::exp(wb), Ra = so3::exp(wa);
+    EXPECT_LE(max_abs(values(Rb) - values(Ra)), 8 * kEps);
+    for (int k = 0; k < 3; ++k) EXPECT_LE(max_abs(derivative(Rb, k) - derivative(Ra, k)), 1e-13);
+  }
 }
 
 // Jet derivative parts against finite differences in double, and exactly right at θ = 0.

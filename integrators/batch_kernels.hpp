@@ -1,0 +1,87 @@
+// lgi/integrators/batch_kernels.hpp — which lane-block kernel a batched method runs (BatchKernel), and which
+// ones this program and CPU can run. Shared by the batched LGVI (batch_lgvi.hpp) and RKMK4 (batch_rkmk.hpp).
+//
+//   baseline   lane blocks of 4 bodies (two SSE2 vectors), the build's own flags (x86-64 baseline)
+//   avx2       lane blocks of 8 (two ymm vectors), integrators/batch_avx2.cpp in lgi::batch, compiled with -mavx2
+//              -mfma -ffp-contract=off; needs that library linked (LGI_HAVE_BATCH_AVX2) and an AVX2+FMA CPU
+//   avx512     lane blocks of 16 (two zmm vectors), integrators/batch_avx512.cpp in lgi::batch, compiled with
+//              -mavx512f -mavx512dq -ffp-contract=off; needs LGI_HAVE_BATCH_AVX512 and an AVX-512F+DQ CPU and OS
+// Two machine vectors a block (U = 2 in batch_lanes.hpp's Pack) interleave two independent dependency chains:
+// measured on a Zen 5 core (bench_batch, N = 65536, 1 thread, CPU time, medians of 3, three alternating runs
+// each) 16–20 % faster than one vector a block for the LGVI (baseline 30.0 → 23.9 ms, avx2 15.2 → 12.1, avx512
+// 8.5 → 7.1) and 8–11 % for RKMK4 (39.3 → 34.9, 19.5 → 17.9, 10.7 → 9.8), although the wider blocks spill more
+// (callgrind, LGVI: baseline 362 → 426, avx2 140 → 167 instructions per body-step).
+//   per_body   the single-body stepper per body (core/batch.hpp's integrate_batch)
+//   automatic  the widest of avx512, avx2, baseline that can run (per_body where the kernels do not apply)
+// No FMA contraction anywhere, so every kernel gives the baseline single-body bits.
+#pragma once
+
+#include "../core/integrator.hpp"
+#include "batch_lanes.hpp"
+
+#include <cstdint>
+
+namespace lgi {
+
+namespace batch_kernel {
+static_assert(status_ok == static_cast<std::uint8_t>(StepStatus::ok) &&
+              status_not_converged == static_cast<std::uint8_t>(StepStatus::not_converged) &&
+              status_non_finite == static_cast<std::uint8_t>(StepStatus::non_finite));
+static_assert(sizeof(StepStatus) == 1);
+inline constexpr int baseline_width = 4;
+inline constexpr int avx2_width = 8;
+inline constexpr int avx512_width = 16;
+}  // namespace batch_kernel
+
+enum class BatchKernel : std::uint8_t { automatic, baseline, avx2, per_body, avx512 };
+
+inline const char* to_string(BatchKernel k) {
+  switch (k) {
+    case BatchKernel::automatic: return "automatic";
+    case BatchKernel::baseline: return "baseline";
+    case BatchKernel::avx2: return "avx2";
+    case BatchKernel::avx512: return "avx512";
+    case BatchKernel::per_body: return "per_body";
+  }
+  return "?";
+}
+
+// True when the AVX2 kernel is linked in (lgi::batch) and this CPU runs it.
+inline bool batch_avx2_available() {
+#if defined(LGI_HAVE_BATCH_AVX2)
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+  return false;
+#endif
+}
+
+// True when the AVX-512 kernel is linked in (lgi::batch) and this CPU (and operating system) runs it.
+inline bool batch_avx512_available() {
+#if defined(LGI_HAVE_BATCH_AVX512)
+  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+#else
+  return false;
+#endif
+}
+
+// True when `kernel` can run here (automatic and per_body always can).
+inline bool batch_kernel_available(BatchKernel kernel) {
+  switch (kernel) {
+    case BatchKernel::avx2: return batch_avx2_available();
+    case BatchKernel::avx512: return batch_avx512_available();
+    default: return true;
+  }
+}
+
+// The widest lane-block kernel this program and CPU run: avx512, avx2 or baseline.
+inline BatchKernel batch_widest_kernel() {
+  return batch_avx512_available() ? BatchKernel::avx512 : batch_avx2_available() ? BatchKernel::avx2 : BatchKernel::baseline;
+}
+
+inline int batch_kernel_width(BatchKernel kernel) {
+  return kernel == BatchKernel::avx512 ? batch_kernel::avx512_width
+         : kernel == BatchKernel::avx2 ? batch_kernel::avx2_width
+                                       : batch_kernel::baseline_width;
+}
+
+}  // namespace lgi

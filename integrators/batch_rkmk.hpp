@@ -1,0 +1,173 @@
+// lgi/integrators/batch_rkmk.hpp — RKMK4 on many heavy tops (or free bodies) at once, vectorised across bodies.
+//
+// Computes, for every body i of a BodyBatch (core/batch.hpp), n_steps steps of Rkmk4<HeavyTop<double>> or
+// Rkmk4<FreeBody<double>> (integrators/rkmk.hpp: Runge–Kutta–Munthe-Kaas with the classical RK4 tableau,
+// Munthe-Kaas, BIT 38 (1998) 92; Hairer–Lubich–Wanner, GNI 2nd ed., Algorithm IV.8.3):
+//
+//   stage i:  u_i = h Σ_j a_ij U_j,  W_i = Ω_n + h Σ_j a_ij V_j,  U_i = J_r⁻¹(u_i) W_i (series to ad²),
+//             V_i = J⁻¹((JW_i) × W_i + b Γ_i × z0),  Γ_i = exp(u_i)ᵀ R_nᵀ k
+//   update:   R_{n+1} = R_n exp(h Σ b_i U_i),  Ω_{n+1} = Ω_n + h Σ b_i V_i.
+//
+// Order 4; R stays on SO(3) to round-off; not symplectic, energy and momentum drift like RK4's (see rkmk.hpp).
+//
+// What is preserved: the results — R, Ω, status and the step at which a body stopped — equal, bit for bit, a
+// single-body run y = to_internal(x, t0), y ← step(y, t0 + n h, h) of the same Rkmk4 stepper, for every body,
+// whatever the kernel and the number of threads. The lane loops (integrators/batch_rkmk_kernel.hpp) repeat the
+// single-body arithmetic operation for operation; the exponential's coefficients come from core/trig.hpp's
+// polynomial sin (the same templates as so3::exp_coefficients) for rotation angles up to π, and from
+// so3::exp_coefficients itself, lane by lane, beyond π. RKMK4 is explicit: a body fails only when its state
+// becomes non-finite (status non_finite); it keeps its last good state and leaves its lane.
+// tests/test_batch.cpp checks all of this.
+//
+// Kernels: BatchKernel (integrators/batch_kernels.hpp) — baseline (4 lanes), avx2 (8), avx512 (16), per_body,
+// automatic (the widest available; per_body when J is not diagonal). Per-body parameters: the heavy top's b
+// (span `b`); J, k, z0 and h are shared.
+//
+// Limits: diagonal J only (other J run per_body); double only; autonomous problems (t0 reaches per_body alone).
+// Bit identity holds against the single-body stepper compiled for the baseline x86-64 instruction set without
+// FMA contraction (the library's builds), as for batch_lgvi.hpp.
+#pragma once
+
+#include "../core/batch.hpp"
+#include "../core/inertia.hpp"
+#include "../core/so3.hpp"
+#include "../problems/free_body.hpp"
+#include "../problems/heavy_top.hpp"
+#include "batch_kernels.hpp"
+#include "batch_rkmk_kernel.hpp"
+#include "butcher_tableaus.hpp"
+#include "rkmk.hpp"
+
+#include <concepts>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+
+namespace lgi {
+
+namespace batch_kernel {
+#if defined(LGI_HAVE_BATCH_AVX2)
+// In lgi::batch (integrators/batch_avx2.cpp): blocks [block_begin, block_end) of avx2_width bodies.
+void rkmk4_blocks_avx2(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t block_begin, std::size_t block_end,
+                       double h, std::int64_t n_steps, bool torque);
+#endif
+#if defined(LGI_HAVE_BATCH_AVX512)
+// In lgi::batch (integrators/batch_avx512.cpp): blocks [block_begin, block_end) of avx512_width bodies.
+void rkmk4_blocks_avx512(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t block_begin, std::size_t block_end,
+                         double h, std::int64_t n_steps, bool torque);
+#endif
+
+// The kernels' fallback for lanes beyond the polynomial sin's range (θ > π, or not finite): so3::exp_coefficients,
+// compiled here, in the caller's translation unit (never in lgi::batch's AVX ones).
+inline void rkmk4_exp_coefficients(const double* w, double* AB) {
+  const so3::Coefficients<double> k = so3::exp_coefficients(Vec3<double>(w[0], w[1], w[2]));
+  AB[0] = k.A;
+  AB[1] = k.B;
+}
+
+// The kernel is written for the classical RK4 pattern: a10, a21, a32 the only non-zero entries, every b_i ≠ 0.
+constexpr bool rkmk4_kernel_pattern() {
+  const auto& T = tableaus::classical_rk4;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j)
+      if ((T.a[i][j] != 0) != (j + 1 == i)) return false;
+    if (T.b[i] == 0) return false;
+  }
+  return true;
+}
+static_assert(rkmk4_kernel_pattern(), "batch_rkmk_kernel.hpp assumes the classical RK4 tableau's sparsity");
+}  // namespace batch_kernel
+
+template <class P>
+concept Rkmk4BatchProblem = std::same_as<P, HeavyTop<double>> || std::same_as<P, FreeBody<double>>;
+
+// Integrates every body of `batch` n_steps steps of h with Rkmk4<P>(problem, options) (per body: b[i] in place of
+// problem.b when `b` is not empty; heavy top only). Returns the kernel that ran. Throws std::invalid_argument for
+// a bad argument (b's length, b with the free body, a kernel requested but unavailable, h, n_steps, options).
+template <Rkmk4BatchProblem P>
+BatchKernel integrate_batch_rkmk4(const P& problem, BodyBatch& batch, double t0, double h, std::int64_t n_steps,
+                                  const StepperOptions& options = {}, const BatchOptions& batch_options = {},
+                                  std::span<const double> b = {}, BatchKernel kernel = BatchKernel::automatic) {
+  constexpr bool torque = std::same_as<P, HeavyTop<double>>;
+  options.check();
+  detail::check_batch_run(batch, h, n_steps);
+  if (!b.empty() && !torque)
+    throw std::invalid_argument("lgi::integrate_batch_rkmk4: per-body b given for a free body");
+  if (!b.empty() && b.size() != batch.size())
+    throw std::invalid_argument("lgi::integrate_batch_rkmk4: per-body b has " + std::to_string(b.size()) +
+                                " entries for " + std::to_string(batch.size()) + " bodies");
+  if (!batch_kernel_available(kernel))
+    throw std::invalid_argument(std::string("lgi::integrate_batch_rkmk4: the ") + to_string(kernel) +
+                                " kernel is not available (lgi::batch not linked, or the CPU lacks it)");
+
+  const Inertia<double> J(problem.inertia);
+  if (kernel == BatchKernel::automatic) kernel = !J.diagonal ? BatchKernel::per_body : batch_widest_kernel();
+  if (kernel == BatchKernel::per_body || !J.diagonal) {
+    if (b.empty()) {
+      integrate_batch<Rkmk4>(problem, batch, t0, h, n_steps, options, batch_options);
+    } else {
+      integrate_batch<Rkmk4>(
+          [&](std::size_t i) {
+            P p = problem;
+            if constexpr (torque) p.b = b[i];
+            return p;
+          },
+          batch, t0, h, n_steps, options, batch_options);
+    }
+    return BatchKernel::per_body;
+  }
+
+  // The shared data, exactly as Rkmk4's constructor and the tableau give them.
+  batch_kernel::Rkmk4Params p{};
+  for (int j = 0; j < 3; ++j) {
+    p.J[j] = J.J(j, j);
+    p.J_inv[j] = J.J_inv(j, j);
+  }
+  if constexpr (torque) {
+    for (int j = 0; j < 3; ++j) {
+      p.k[j] = problem.k(j);
+      p.z0[j] = problem.z0(j);
+    }
+    p.b = problem.b;
+  }
+  const auto& T = tableaus::classical_rk4;
+  p.a10 = T.a[1][0];
+  p.a21 = T.a[2][1];
+  p.a32 = T.a[3][2];
+  p.b0 = T.b[0];
+  p.b1 = T.b[1];
+  p.b2 = T.b[2];
+  p.b3 = T.b[3];
+  p.exp_coefficients = &batch_kernel::rkmk4_exp_coefficients;
+
+  batch_kernel::Rkmk4IO io{};
+  for (int e = 0; e < 9; ++e) io.R[e] = batch.R[static_cast<std::size_t>(e)].data();
+  for (int j = 0; j < 3; ++j) io.Omega[j] = batch.Omega[static_cast<std::size_t>(j)].data();
+  io.status = reinterpret_cast<std::uint8_t*>(batch.status.data());
+  io.steps = batch.steps.data();
+  io.b = b.empty() ? nullptr : b.data();
+  io.n = batch.size();
+
+  const int width = batch_kernel_width(kernel);
+  const std::size_t blocks = (batch.size() + static_cast<std::size_t>(width) - 1) / static_cast<std::size_t>(width);
+  const int threads = detail::batch_threads(batch_options, blocks);
+  detail::parallel_slices(blocks, threads, [&](std::size_t begin, std::size_t end) {
+#if defined(LGI_HAVE_BATCH_AVX512)
+    if (kernel == BatchKernel::avx512) {
+      batch_kernel::rkmk4_blocks_avx512(p, io, begin, end, h, n_steps, torque);
+      return;
+    }
+#endif
+#if defined(LGI_HAVE_BATCH_AVX2)
+    if (kernel == BatchKernel::avx2) {
+      batch_kernel::rkmk4_blocks_avx2(p, io, begin, end, h, n_steps, torque);
+      return;
+    }
+#endif
+    batch_kernel::baseline::rkmk4_blocks<batch_kernel::baseline_width, torque>(p, io, begin, end, h, n_steps);
+  });
+  return kernel;
+}
+
+}  // namespace lgi
