@@ -275,8 +275,8 @@ class Rkmk {
     }
     std::array<Scalar, dense_stages> w;
     for (int i = 0; i < dense_stages; ++i) {  // b_i(θ) = Σ_m dense[i][m−1] θ^m, Horner
-      Scalar p = Scalar(Tableau.dense[i][7]);
-      for (int m = 6; m >= 0; --m) p = p * theta + Scalar(Tableau.dense[i][m]);
+      Scalar p = Scalar(Tableau.dense[i][Tableau.dense_degree - 1]);
+      for (int m = Tableau.dense_degree - 2; m >= 0; --m) p = p * theta + Scalar(Tableau.dense[i][m]);
       w[i] = p * theta;
     }
     Vec6 sum = Vec6::Zero();
@@ -409,5 +409,13 @@ template <RigidBodyProblem P>
 using RkmkDp5Cayley = Rkmk<tableaus::dormand_prince5, P, -1, LieChart::cayley>;
 template <RigidBodyProblem P>
 using RkmkDp8Cayley = Rkmk<tableaus::dop853, P, -1, LieChart::cayley>;
+template <RigidBodyProblem P>
+using RkmkVern8 = Rkmk<tableaus::verner8, P>;
+template <RigidBodyProblem P>
+using RkmkVern9 = Rkmk<tableaus::verner9, P>;
+template <RigidBodyProblem P>
+using RkmkVern8Cayley = Rkmk<tableaus::verner8, P, -1, LieChart::cayley>;
+template <RigidBodyProblem P>
+using RkmkVern9Cayley = Rkmk<tableaus::verner9, P, -1, LieChart::cayley>;
 
 }  // namespace lgi
