@@ -5,8 +5,9 @@
 //
 //   ButcherTableau<S>        a, b, c of an explicit method: Euler (1), Heun (2), Kutta 3 (3), classical
 //                            RK4 and the 3/8 rule (4)
-//   EmbeddedTableau<S, SE>   an embedded pair with its error weights e = b − b̂ and a continuous extension
-//                            (dense output): Dormand–Prince 5(4), DOP853 8(5,3)
+//   EmbeddedTableau<S, SE, D> an embedded pair with its error weights e = b − b̂ and a continuous extension
+//                            (dense output, degree D): Dormand–Prince 5(4), DOP853 8(5,3), Verner's 9(8); Verner's
+//                            8(7) is here as checked data but not offered as a method (see it below)
 //
 // Every coefficient set is checked against the Runge–Kutta order conditions (all rooted trees up to the
 // declared order, evaluated numerically) in tests/test_rkmk_family.cpp, and by observed order.
@@ -1011,6 +1012,14 @@ inline constexpr std::array<std::array<double, 8>, 21> vern8_dense = [] {
 // the estimate), and an order-8 continuous extension from 8 more stages (the first at the new point). The
 // estimate behaves like h⁸: control_order 8. Checked by the order conditions (order 8 for b, 7 for b − e, 8 for
 // the dense weights at every θ tried) in tests/test_rkmk_family.cpp.
+// Not offered as an RKMK method (no alias, not in the registry): measured, it does not pay. On the heavy tops
+// (benchmarks/work_precision, HV and seed tops, one run, README) it reaches 1e-8 and 1e-10 0–9 % faster than
+// DOP853 in Cayley coordinates (24.3 / 38.9 against 26.0 / 42.9 µs on the HV top) and 2–18 % in the exponential
+// chart, 1.3× slower than Verner 9(8) in Cayley coordinates; and its large coefficients cost accuracy: a's up
+// to 123 (against DOP853's 43) put 1.2e-13 of round-off on a step's end (DOP853 9.5e-16; double against long
+// double, h = 0.1 … 0.3, skew top), the interpolant's coefficients up to 1.35e6 put 7.8e-11 on its dense output
+// (DOP853 3.6e-14), and with the double coefficients even long-double runs stall at 1e-14 (skew top, T = 2;
+// DOP853 3.4e-16), below which its order 8 would show: above it the errors fall like h⁹ … h¹⁰.
 inline constexpr EmbeddedTableau<13, 21> verner8{
     .name = "rkmk_vern8",
     .title = "Runge-Kutta-Munthe-Kaas, Verner's efficient 8(7) pair with order-8 dense output (adaptive with rtol/atol)",
