@@ -534,6 +534,7 @@ const char* kernel_name(int kernel) {
   switch (static_cast<BatchKernel>(kernel)) {
     case BatchKernel::baseline: return "baseline";
     case BatchKernel::avx2: return "avx2";
+    case BatchKernel::avx512: return "avx512";
     case BatchKernel::per_body: return "per-body";
     case BatchKernel::automatic: break;
   }

@@ -40,6 +40,8 @@ std::vector<Method> lgi_methods_free_body(const Case& c) {
       lgi_method<lgi::Rkmk4Cayley<P>>(p, true),
       lgi_method<lgi::RkmkDp5Cayley<P>>(p, true, true),
       lgi_method<lgi::RkmkDp8Cayley<P>>(p, true, true),
+      lgi_method<lgi::RkmkVern9<P>>(p, true, true),
+      lgi_method<lgi::RkmkVern9Cayley<P>>(p, true, true),
       lgi_method<lgi::Projected<lgi::Rkmk4<P>>>(p, true),
       lgi_method<lgi::Projected<lgi::RkmkDp8Cayley<P>>>(p, true, true),
   };

@@ -41,6 +41,8 @@ std::vector<Method> lgi_methods_top(const Case& c) {
       lgi_method<lgi::Rkmk4Cayley<P>>(p, false),
       lgi_method<lgi::RkmkDp5Cayley<P>>(p, false, true),
       lgi_method<lgi::RkmkDp8Cayley<P>>(p, false, true),
+      lgi_method<lgi::RkmkVern9<P>>(p, false, true),
+      lgi_method<lgi::RkmkVern9Cayley<P>>(p, false, true),
       lgi_method<lgi::Projected<lgi::Rkmk4<P>>>(p, false),
       lgi_method<lgi::Projected<lgi::RkmkDp8Cayley<P>>>(p, false, true),
   };

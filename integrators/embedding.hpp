@@ -288,8 +288,8 @@ class EmbeddedRk {
     }
     Vec sum = Vec::Zero();
     for (int i = 0; i < dense_stages; ++i) {
-      Scalar p = Scalar(Tableau.dense[i][7]);
-      for (int m = 6; m >= 0; --m) p = p * theta + Scalar(Tableau.dense[i][m]);
+      Scalar p = Scalar(Tableau.dense[i][Tableau.dense_degree - 1]);
+      for (int m = Tableau.dense_degree - 2; m >= 0; --m) p = p * theta + Scalar(Tableau.dense[i][m]);
       sum += (p * theta) * d.k[i];
     }
     Vec y = d.y0 + d.h * sum;

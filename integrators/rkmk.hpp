@@ -18,15 +18,17 @@
 // the argument below; HLW credit Algorithm IV.8.3 to Munthe-Kaas (1999), Appl. Numer. Math. 29 (1999) 115,
 // whose own theorem numbers were not checked): along the exact flow u = tΩ + O(t²), so ad_u^k Ω = O(t^(k+1))
 // and the dropped terms change a step by O(h^(p+1)). It makes the stage map a polynomial. Since B_k = 0 for
-// odd k ≥ 3, K = p − 2 is lowered to the last non-zero term (DP5: K = 2). Measured (tests/test_rkmk_family.cpp,
-// RkmkSeriesTruncation): one non-zero term short, the order falls to the dropped power + 1 — RKMK3 with
-// K = 0: 2.000; RKMK4 with K = 1: 3.003; DP5 with K = 1: 3.001; DOP853 with K = 4: 7.06.
+// odd k ≥ 3, K = p − 2 is lowered to the last non-zero term (DP5: K = 2; Verner 9(8): K = 7 → 6, the same
+// terms as DOP853's K = 6). Measured (tests/test_rkmk_family.cpp, RkmkSeriesTruncation): one non-zero term
+// short, the order falls to the dropped power + 1 — RKMK3 with K = 0: 2.000; RKMK4 with K = 1: 3.003; DP5 with
+// K = 1: 3.001; DOP853 with K = 4: 7.06; Verner 9(8) with K = 4: 7.01 (and 9 with K = 6: the ad⁸ term, B₈ ≠ 0,
+// is not needed).
 // Zero tableau entries are skipped at compile time, and so are trailing stages with b_i = 0 in fixed steps
 // (Dormand–Prince's 7th stage); for a torque-free problem no stage attitude is formed at all, and for a
 // torque that depends on R only through Γ = Rᵀa (ReducedAttitudeProblem: the heavy top) the stages
 // rotate Γ_i = exp(u_i)ᵀ Γ_n instead of forming R_n exp(u_i).
 //
-// Embedded pairs (EmbeddedTableau: Dormand–Prince 5(4), DOP853) also give, for adaptive steps
+// Embedded pairs (EmbeddedTableau: Dormand–Prince 5(4), DOP853, Verner 9(8)) also give, for adaptive steps
 // (integrators/adaptive.hpp):
 //   error:   the two solutions R_n exp(u), R_n exp(û) differ by log(exp(û)ᵀ exp(u)) = δu + O(|u| |δu|) with
 //            δu = u − û = h Σ e_i U_i (e = b − b̂), and in Ω by δΩ = h Σ e_i V_i. The six components are
@@ -36,15 +38,16 @@
 //            err = √(Σ (δ_k/sc_k)²/6) — for DOP853 err = ‖δ₅‖²/√(‖δ₅‖² + 0.01‖δ₃‖²) as in dop853.f.
 //   dense:   the continuous extension applied in the Lie algebra, u(θh) = h Σ b_i(θ) U_i, Ω(t_n + θh) =
 //            Ω_n + h Σ b_i(θ) V_i, R(t_n + θh) = R_n exp(u(θh)): it is the RK dense output of the ODE above,
-//            so it has the tableau's dense order (4 for DP5, 7 for DOP853) and R stays on SO(3). DOP853's
-//            four extra stages (at the new point, and c = 0.1, 0.2, 7/9) are computed only when a step is
-//            asked for output. Munthe-Kaas, BIT 38 (1998) 92 (the continuous RKMK idea); Engø, BIT 40
-//            (2000) 41 ("Numerical analysis of Lie group methods", variable steps and interpolation).
+//            so it has the tableau's dense order (4 for DP5, 7 for DOP853, 9 for Verner 9(8)) and R stays on
+//            SO(3). The extra stages — DOP853's four (at the new point, and c = 0.1, 0.2, 7/9), Verner's ten
+//            (the first at the new point) — are computed only when a step is asked for output. Munthe-Kaas,
+//            BIT 38 (1998) 92 (the continuous RKMK idea); Engø, BIT 40 (2000) 41 ("Numerical analysis of Lie
+//            group methods", variable steps and interpolation).
 //
-// Cayley coordinates (LieChart::cayley; methods rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley). RKMK works
-// with any coordinate map ψ: so(3) → SO(3) with ψ(0) = I, ψ'(0) = id (Iserles, Munthe-Kaas, Nørsett, Zanna,
-// Acta Numerica 9 (2000) 215, the section "Alternative coordinates"; Munthe-Kaas, Appl. Numer. Math. 29
-// (1999) 115): the step applies the tableau to u' = dψ_u⁻¹(Ω). With the Cayley map cay(u) = (I − ½û)⁻¹(I + ½û)
+// Cayley coordinates (LieChart::cayley; methods rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley,
+// rkmk_vern9_cayley). RKMK works with any coordinate map ψ: so(3) → SO(3) with ψ(0) = I, ψ'(0) = id (Iserles,
+// Munthe-Kaas, Nørsett, Zanna, Acta Numerica 9 (2000) 215, the section "Alternative coordinates"; Munthe-Kaas,
+// Appl. Numer. Math. 29 (1999) 115): the step applies the tableau to u' = dψ_u⁻¹(Ω). With the Cayley map cay(u) = (I − ½û)⁻¹(I + ½û)
 // (core/so3.hpp) the inverse differential is exact and polynomial,
 //
 //   u' = dcay_u⁻¹ Ω = Ω + ½ u × Ω + ¼ (u·Ω) u        (HLW §IV.8.3, right-trivialised),
@@ -57,8 +60,22 @@
 // exponential chart on the Hairer–Vilmart heavy top and up to 100× on the free body (T = 10, h = 0.1 … 0.5;
 // the DOP853 quaternion-embedding baseline is as accurate as the exponential chart there), so the adaptive
 // Cayley pair takes ≈ 20 % more steps for an error; it is cheaper per step (callgrind, HV heavy top,
-// h = 0.01: rkmk_dp8 4632 → rkmk_dp8_cayley 3016 instructions, rkmk4 962 → 878). Dense output and error
-// estimates are those above with cay in place of exp.
+// h = 0.01: rkmk_dp8 4308 → rkmk_dp8_cayley 2838 instructions, rkmk4 977 → 887; remeasured with Verner's
+// pair below — 4632 → 3016 and 962 → 878 when first measured). Dense output and error estimates are those
+// above with cay in place of exp.
+//
+// Verner's most efficient 9(8) pair (rkmk_vern9, rkmk_vern9_cayley; tableaus::verner9): 16 stages a step against
+// DOP853's 12, for a solution of order 9 and an estimate of order 8 whose error constants are small; in Cayley
+// coordinates it needs fewer steps than DOP853 in either chart for the same error (README, work-precision), at
+// about DOP853's cost per stage (callgrind, HV heavy top, h = 0.01, fixed steps, which form 15 of its 16
+// stages: rkmk_vern9 5001, rkmk_vern9_cayley 3611 instructions; DOP853 4308, 2838 for 12 stages).
+// Measured (tests/test_rkmk_family.cpp, test_adaptive.cpp): orders 8.84 (skew top) and 8.98 (free body) in the
+// exponential chart; in Cayley coordinates its errors fall faster than h⁹ everywhere above the round-off floor
+// (9.5 on the skew top, 10.0 on the free body: large h¹⁰ terms). Round-off of one step, double against long
+// double, h = 0.1 … 0.3: 2.1e-16 at the step's end (DOP853 9.5e-16) but 8.5e-13 in the dense output (DOP853
+// 3.6e-14): its interpolant's weights are degree-9 polynomials with coefficients up to 1.07e4, whose Horner
+// sums carry ≈ 1e-12 absolute round-off — output times read between steps are that far off, whatever the
+// tolerance (and 5.3e-14 h in long double, from the coefficients' own rounding to double).
 //
 // Order: that of the tableau. R stays on SO(3) to round-off (products of exponentials or Cayley
 // rotations). Not symplectic, not symmetric; energy and momentum drift like those of the underlying
@@ -276,8 +293,8 @@ class Rkmk {
     }
     std::array<Scalar, dense_stages> w;
     for (int i = 0; i < dense_stages; ++i) {  // b_i(θ) = Σ_m dense[i][m−1] θ^m, Horner
-      Scalar p = Scalar(Tableau.dense[i][7]);
-      for (int m = 6; m >= 0; --m) p = p * theta + Scalar(Tableau.dense[i][m]);
+      Scalar p = Scalar(Tableau.dense[i][Tableau.dense_degree - 1]);
+      for (int m = Tableau.dense_degree - 2; m >= 0; --m) p = p * theta + Scalar(Tableau.dense[i][m]);
       w[i] = p * theta;
     }
     Vec6 sum = Vec6::Zero();
@@ -410,5 +427,9 @@ template <RigidBodyProblem P>
 using RkmkDp5Cayley = Rkmk<tableaus::dormand_prince5, P, -1, LieChart::cayley>;
 template <RigidBodyProblem P>
 using RkmkDp8Cayley = Rkmk<tableaus::dop853, P, -1, LieChart::cayley>;
+template <RigidBodyProblem P>
+using RkmkVern9 = Rkmk<tableaus::verner9, P>;
+template <RigidBodyProblem P>
+using RkmkVern9Cayley = Rkmk<tableaus::verner9, P, -1, LieChart::cayley>;
 
 }  // namespace lgi

@@ -33,6 +33,8 @@ using namespace lgi::test;
 static_assert(AdaptiveStepper<RkmkDp5<HeavyTop<double>>>);
 static_assert(AdaptiveStepper<RkmkDp8<HeavyTop<double>>>);
 static_assert(AdaptiveStepper<RkmkDp8<FreeBody<ceres::Jet<double, 2>>>>);
+static_assert(AdaptiveStepper<RkmkVern9<HeavyTop<double>>>);
+static_assert(AdaptiveStepper<RkmkVern9Cayley<FreeBody<ceres::Jet<double, 2>>>>);
 static_assert(!AdaptiveStepper<Rkmk4<HeavyTop<double>>>);
 
 StepperOptions tolerances(double tol) {
@@ -116,6 +118,8 @@ TEST(Adaptive, Dp5MeetsTheTolerance) { meets_tolerance<RkmkDp5>("rkmk_dp5"); }
 TEST(Adaptive, Dp8MeetsTheTolerance) { meets_tolerance<RkmkDp8>("rkmk_dp8"); }
 TEST(Adaptive, Dp5CayleyMeetsTheTolerance) { meets_tolerance<RkmkDp5Cayley>("rkmk_dp5_cayley"); }
 TEST(Adaptive, Dp8CayleyMeetsTheTolerance) { meets_tolerance<RkmkDp8Cayley>("rkmk_dp8_cayley"); }
+TEST(Adaptive, Vern9MeetsTheTolerance) { meets_tolerance<RkmkVern9>("rkmk_vern9"); }
+TEST(Adaptive, Vern9CayleyMeetsTheTolerance) { meets_tolerance<RkmkVern9Cayley>("rkmk_vern9_cayley"); }
 
 // Over T = 10 the steps grow in number and the error per step adds up: the number of accepted steps falls
 // with the tolerance as tol^(−1/k) (k = the estimate's order: 5 for DP5, 8 for DOP853), fitted over the
@@ -125,10 +129,32 @@ TEST(Adaptive, Dp8CayleyMeetsTheTolerance) { meets_tolerance<RkmkDp8Cayley>("rkm
 // Finding: over this longer horizon DP5's error exceeds 10× tol — 33 … 46× (DOP853: 2 … 7×): error-per-step
 // control bounds the local error (scaled RMS ≤ 1, with sc = atol + rtol|y| ≈ 2 tol per component), and on
 // this top the local errors of 40 … 600 steps add up and grow. The ratio is asserted below 60 (DP5) and 10
-// (DOP853), so that a regression of the controller shows; the 10× acceptance holds over T = 2 (above).
+// (DOP853, Verner 9(8)), so that a regression of the controller shows; the 10× acceptance holds over T = 2 (above).
+// The step size is compared with the fixed-step order through the median accepted step, not the count: the
+// count carries a fixed overhead — the ramp from h0 = 0.01 and the landing on T — that weighs 10 % of Verner
+// 9(8)'s 19 steps at tol 1e-6 and 3 % of its 67 at 1e-12 and flattens its count slope to −0.091 (−0.095 counting
+// only the steps after t = 1), where its median step goes as tol^0.0995; DOP853: count −0.109, median 0.115.
+// (Verner 9(8)'s estimate behaves like h^9.5 at these steps, h = 0.14 … 0.55 — local slopes 9.1 … 10.4 along the
+// trajectory —, its fixed-step error like h^9.3: the h^10 terms are still large there.)
+template <template <class> class Method>
+double median_step(double tol) {
+  Method<HeavyTop<double>> stepper(skew_top(), tolerances(tol));
+  State<double> x = test::skew_initial_state();
+  std::vector<double> t;
+  AdaptiveOptions every_step;
+  every_step.every = 1;
+  const double T[] = {10.0};
+  integrate_adaptive(stepper, x, 0.0, 0.01, std::span<const double>(T),
+                     [&](double ti, const State<double>&) { t.push_back(ti); }, every_step);
+  std::vector<double> h;
+  for (std::size_t i = 1; i < t.size(); ++i) h.push_back(t[i] - t[i - 1]);
+  std::nth_element(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(h.size() / 2), h.end());
+  return h[h.size() / 2];
+}
+
 template <template <class> class Method>
 void steps_follow_the_order(const char* name, double max_ratio) {
-  std::vector<double> tols, steps, ratios;
+  std::vector<double> tols, steps, ratios, medians;
   double worst_ratio = 0;
   for (int e = 4; e <= 12; ++e) {
     const double tol = std::pow(10.0, -e);
@@ -139,12 +165,15 @@ void steps_follow_the_order(const char* name, double max_ratio) {
                 run.final_error, run.final_error / tol, run.max_error, run.max_error / tol);
     tols.push_back(tol);
     steps.push_back(static_cast<double>(run.summary.accepted));
+    medians.push_back(median_step<Method>(tol));
     if (e >= 6) ratios.push_back(run.max_error / tol);
     worst_ratio = std::max(worst_ratio, run.max_error / tol);
   }
   const double slope_all = test::fitted_order(tols, steps);
   const std::vector<double> tols6(tols.begin() + 2, tols.end()), steps6(steps.begin() + 2, steps.end());
   const double slope = test::fitted_order(tols6, steps6);
+  const std::vector<double> medians6(medians.begin() + 2, medians.end());
+  const double slope_median = test::fitted_order(tols6, medians6);
   const double k = Method<HeavyTop<double>>::control_order;
   const double spread = *std::max_element(ratios.begin(), ratios.end()) / *std::min_element(ratios.begin(), ratios.end());
   // The method's effective order at these step sizes: fixed steps h = T/N with the N the adaptive runs took
@@ -160,13 +189,13 @@ void steps_follow_the_order(const char* name, double max_ratio) {
     errors.push_back(distance(x.cast<L>(), track_10().states.back()));
   }
   const double p_eff = test::fitted_order(hs, errors);
-  std::printf("%s: accepted steps ∝ tol^%.4f over 1e-6 … 1e-12 (tol^%.4f over 1e-4 … 1e-12); predicted by the "
-              "estimate's order −1/%d = %.4f, by the fixed-step order at the same steps (h = %.3g … %.3g: %.2f) %.4f; "
-              "error/tol spread over 1e-6 … 1e-12: %.2f, largest error/tol %.1f\n",
-              name, slope, slope_all, static_cast<int>(k), -1.0 / k, hs.front(), hs.back(), p_eff, -1.0 / p_eff, spread,
-              worst_ratio);
+  std::printf("%s: accepted steps ∝ tol^%.4f over 1e-6 … 1e-12 (tol^%.4f over 1e-4 … 1e-12), median step ∝ "
+              "tol^%.4f; predicted by the estimate's order −1/%d = %.4f, by the fixed-step order at the same steps "
+              "(h = %.3g … %.3g: %.2f) %.4f; error/tol spread over 1e-6 … 1e-12: %.2f, largest error/tol %.1f\n",
+              name, slope, slope_all, slope_median, static_cast<int>(k), -1.0 / k, hs.front(), hs.back(), p_eff,
+              -1.0 / p_eff, spread, worst_ratio);
   EXPECT_NEAR(slope, -1.0 / k, 0.2 / k) << name;
-  EXPECT_NEAR(slope, -1.0 / p_eff, 0.1 / p_eff) << name;
+  EXPECT_NEAR(slope_median, 1.0 / p_eff, 0.1 / p_eff) << name;
   EXPECT_LT(spread, 10.0) << name;
   EXPECT_LT(worst_ratio, max_ratio) << name;
 }
@@ -177,6 +206,8 @@ TEST(Adaptive, Dp5CayleyStepsFollowItsOrder) { steps_follow_the_order<RkmkDp5Cay
 // The Cayley pair's global error over T = 10 is up to 13.0× tol (measured; the exponential chart's 2 … 7×): the
 // same finding as above with larger error constants. Guarded at 20 so that a regression shows.
 TEST(Adaptive, Dp8CayleyStepsFollowItsOrder) { steps_follow_the_order<RkmkDp8Cayley>("rkmk_dp8_cayley", 20); }
+TEST(Adaptive, Vern9StepsFollowItsOrder) { steps_follow_the_order<RkmkVern9>("rkmk_vern9", 10); }
+TEST(Adaptive, Vern9CayleyStepsFollowItsOrder) { steps_follow_the_order<RkmkVern9Cayley>("rkmk_vern9_cayley", 10); }
 
 // Dense output on the group has the continuous extension's order q: one step of size h from the exact
 // initial state, read at θ = 1/2, is off the exact solution by O(h^(q+1)) (4 for DP5 → 5; 7 for DOP853 → 8),
@@ -220,6 +251,57 @@ TEST(Adaptive, DenseOutputOrderCayley) {
   dense_order<RkmkDp5Cayley, double>("rkmk_dp5_cayley", 4, {0.1, 0.07, 0.05, 0.035, 0.025, 0.018, 0.0125});
   // DOP853-Cayley over h = 0.3 … 0.065 fits 8.22 (pre-asymptotic at the large steps): measured from h = 0.2 down
   dense_order<RkmkDp8Cayley, long double>("rkmk_dp8_cayley", 7, {0.2, 0.16, 0.13, 0.1, 0.08, 0.065, 0.05});
+}
+
+// Verner 9(8)'s order-9 interpolant, measured like DOP853's (long double, θ = 1/2), cannot show its h^10: from
+// h = 0.6 to 0.25 its local error falls like h^12.2 (exponential chart) and h^11.1 (Cayley), from 1e-8 to 2e-13 —
+// faster than h^10, the order-10 error terms still dominated by higher ones — and from h ≈ 0.16 on it sits on a
+// floor proportional to h, 5.3e-14 h: the interpolant's coefficients (up to 1.07e4) rounded to doubles leave its
+// first condition Σ_i b_i(1/2) = 1/2 off by r₁ = 2.0e-14 (tests/test_rkmk_family.cpp, OrderConditions), and
+// h r₁ (U₁, V₁) = h r₁ (Ω₀, Ω₀') is that floor. Measured here: the slope above the floor (at least the h^10 of an
+// order-9 interpolant) and the floor itself, err/h at h ≤ 0.065 against |r₁| (|Ω₀| + |Ω₀'|) within 5 %.
+// (DOP853's r₁ at 1/2 is 1.4e-15: its floor, 1.4e-16 at h = 0.04, lies below the window it is measured in.)
+template <template <class> class Method>
+void dense_floor(const char* name) {
+  using P = HeavyTop<L>;
+  const State<double> x0 = test::skew_initial_state();
+  Method<P> stepper(skew_top().cast<L>(), tolerances(1e-6));
+  std::vector<double> hs, errors, small_h;
+  for (double h = 0.6; h > 0.03; h /= 1.25) {
+    typename Method<P>::Dense d;
+    State<L> x1;
+    double err = 0;
+    ASSERT_EQ(stepper.attempt(x0.cast<L>(), L(0), L(h), x1, err, d), StepStatus::ok);
+    const double e = distance(stepper.dense_output(d, L(0.5)), rk4_embedding_long_double(skew_top(), x0, h / 2, 20000));
+    if (h >= 0.245) {
+      hs.push_back(h);
+      errors.push_back(e);
+    }
+    if (h <= 0.065) small_h.push_back(e / h);
+  }
+  // r₁ = Σ_i b_i(1/2) − 1/2 of the double coefficients, in long double; (Ω₀, Ω₀') of the first stage
+  long double r1 = -0.5L;
+  for (const auto& row : tableaus::verner9.dense) {
+    long double p = 0;
+    for (int m = tableaus::verner9.dense_degree - 1; m >= 0; --m) p = p * 0.5L + row[static_cast<std::size_t>(m)];
+    r1 += p * 0.5L;
+  }
+  const auto top = skew_top();
+  const Vec3<double> W = x0.Omega;
+  const Vec3<double> dW = top.inertia.inverse() * Vec3<double>((top.inertia * W).cross(W) + top.torque(x0.R));
+  const double floor = std::abs(static_cast<double>(r1)) * (W.norm() + dW.norm());
+  const double q = test::fitted_order(hs, errors);
+  std::printf("%s: dense output at θ = 1/2: local error ∝ h^%.3f over h = %.3g … %.3g (%.2e … %.2e); below h = 0.065 "
+              "err/h = %.3e … %.3e, |r1| (|W0| + |W0'|) = %.3e (r1 = %.2Le)\n",
+              name, q, hs.front(), hs.back(), errors.front(), errors.back(), small_h.front(), small_h.back(), floor, r1);
+  EXPECT_GT(q, 10 - 0.2) << name;
+  for (const double f : small_h) EXPECT_NEAR(f, floor, 0.05 * floor) << name;
+}
+
+TEST(AdaptiveFindings, DenseOutputVern9PreAsymptoticThenRoundingFloor) {
+  static_assert(tableaus::verner9.dense_order == 9);
+  dense_floor<RkmkVern9>("rkmk_vern9");
+  dense_floor<RkmkVern9Cayley>("rkmk_vern9_cayley");
 }
 
 // Output times are read from the dense output: asking for 100 of them changes neither the steps taken nor
@@ -352,22 +434,23 @@ TEST(Adaptive, BadArguments) {
 // Jets through an adaptive run: the step sizes follow the values (the derivative of the trajectory for the
 // chosen step sequence). Against central differences, which also see the steps move with the data, the
 // two agree to the order of the tolerance's effect (1e-10 here): 1e-6.
-TEST(Adaptive, JetsThroughAnAdaptiveRun) {
+template <template <class> class Method>
+void jets_through_an_adaptive_run(double h0) {
   using Jet = ceres::Jet<double, 3>;
   const auto problem = test::skew_heavy_top();
   const State<double> x0 = test::skew_initial_state();
   const double times[] = {1.0, 2.0};
-  RkmkDp8<HeavyTop<Jet>> jet_stepper(problem.cast<Jet>(), tolerances(1e-10));
+  Method<HeavyTop<Jet>> jet_stepper(problem.cast<Jet>(), tolerances(1e-10));
   State<Jet> xj = x0.cast<Jet>();
   for (int i = 0; i < 3; ++i) xj.Omega[i].v[i] = 1;
   const Jet jt[] = {Jet(1.0), Jet(2.0)};
-  const auto sj = integrate_adaptive(jet_stepper, xj, Jet(0), Jet(0.01), std::span<const Jet>(jt));
+  const auto sj = integrate_adaptive(jet_stepper, xj, Jet(0), Jet(h0), std::span<const Jet>(jt));
   ASSERT_EQ(sj.status, RunStatus::completed);
   const auto run = [&](const Vec3<double>& d) {
-    RkmkDp8<HeavyTop<double>> stepper(problem, tolerances(1e-10));
+    Method<HeavyTop<double>> stepper(problem, tolerances(1e-10));
     State<double> x = x0;
     x.Omega += d;
-    integrate_adaptive(stepper, x, 0.0, 0.01, std::span<const double>(times));
+    integrate_adaptive(stepper, x, 0.0, h0, std::span<const double>(times));
     return x;
   };
   const State<double> plain = run(Vec3<double>::Zero());
@@ -384,6 +467,16 @@ TEST(Adaptive, JetsThroughAnAdaptiveRun) {
     }
   }
   EXPECT_GT(largest, 0.1);
+}
+
+TEST(Adaptive, JetsThroughAnAdaptiveRun) { jets_through_an_adaptive_run<RkmkDp8>(0.01); }
+// Verner 9(8) from h0 = 0.2: from 0.01 its first estimates (≈ 1e-9 of the tolerance) are round-off, which the Jet run
+// computes differently in the last bit (ceres divides by multiplying with the reciprocal), so the two runs choose
+// different step sequences (t after 12 steps 1.867 against 1.904) and end 1.2e-14 apart; from 0.2 the
+// sequences agree to 4e-6 and the values to 1e-16.
+TEST(Adaptive, JetsThroughAnAdaptiveRunVern9) {
+  jets_through_an_adaptive_run<RkmkVern9>(0.2);
+  jets_through_an_adaptive_run<RkmkVern9Cayley>(0.2);
 }
 
 }  // namespace

@@ -226,8 +226,8 @@ std::vector<Case> cases() {
        "problem, initial, integrator, t_end, output, limits)"},
       {"method_with_escape_sequence", edit(h, "\"lgvi\"", "\"\\u001b[31mlgvi\""),
        "lgi: error: {file}: /integrator/method: unknown method \"\\u001b[31mlgvi\" (known: lgvi, rkmk4, "
-       "lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, "
-       "rk4_quat, rk4_quat_renorm, rk4_mat, "
+       "lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk_vern9, rkmk4_cayley, rkmk_dp5_cayley, "
+       "rkmk_dp8_cayley, rkmk_vern9_cayley, rk4_quat, rk4_quat_renorm, rk4_mat, "
        "rk4_mat_renorm, dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, split_axes, "
        "split_dmv, split_dmv4, split_dmv6, split_dmv8, split_dmv10, split_exact, cf4, cg3, lgvi_yoshida4, "
        "lgvi_suzuki4, lgvi_yoshida6, lgvi_kahan_li6, lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10, "
@@ -360,8 +360,8 @@ std::vector<Case> cases() {
       // ---- method and problem ----
       {"unknown_method", edit(h, "\"lgvi\"", "\"rk45\""),
        "lgi: error: {file}: /integrator/method: unknown method \"rk45\" (known: lgvi, rkmk4, lie_euler, "
-       "rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, rk4_quat, "
-       "rk4_quat_renorm, rk4_mat, rk4_mat_renorm, "
+       "rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk_vern9, rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, "
+       "rkmk_vern9_cayley, rk4_quat, rk4_quat_renorm, rk4_mat, rk4_mat_renorm, "
        "dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, split_axes, split_dmv, split_dmv4, "
        "split_dmv6, split_dmv8, split_dmv10, split_exact, cf4, cg3, lgvi_yoshida4, lgvi_suzuki4, lgvi_yoshida6, "
        "lgvi_kahan_li6, lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10, split_dmv_yoshida4, "
@@ -374,20 +374,22 @@ std::vector<Case> cases() {
       {"method_not_for_problem", edit(h, "\"lgvi\"", "\"lagrange_split\""),
        "lgi: error: {file}: /integrator/method: method \"lagrange_split\" does not apply to problem "
        "heavy_top (methods that do: lgvi, rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, "
-       "rkmk_dp8, rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, rk4_quat, rk4_quat_renorm, rk4_mat, "
+       "rkmk_dp8, rkmk_vern9, rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, rkmk_vern9_cayley, rk4_quat, "
+       "rk4_quat_renorm, rk4_mat, "
        "rk4_mat_renorm, dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, split_axes, split_dmv, split_dmv4, split_dmv6, split_dmv8, "
        "split_dmv10, split_exact, cf4, cg3, lgvi_yoshida4, lgvi_suzuki4, lgvi_yoshida6, lgvi_kahan_li6, "
        "lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10, split_dmv_yoshida4, split_dmv_suzuki4, "
        "split_dmv_kahan_li6, split_dmv_kahan_li8, split_dmv_sofroniou_spaletta10)"},
       {"splitting_on_euler_angles", edit(euler_angles, "\"rkmk4\"", "\"lgvi\""),
        "lgi: error: {file}: /integrator/method: method \"lgvi\" does not apply to problem lagrange_top_euler_angles "
-       "(methods that do: rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8)"},
+       "(methods that do: rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk_vern9)"},
       {"tolerance_on_explicit_method", edit(h, "\"lgvi\"", "\"rkmk4\""),
        "lgi: error: {file}: /integrator/max_iterations: unknown key for method rkmk4 (allowed: method, "
        "dt, projection)"},
       {"rtol_on_fixed_step_method", edit(adaptive, "\"rkmk_dp5\"", "\"rkmk4\""),
        "lgi: error: {file}: /integrator/rtol: method rkmk4 has no embedded error estimate: adaptive "
-       "steps (rtol, atol) need one of rkmk_dp5, rkmk_dp8, rkmk_dp5_cayley, rkmk_dp8_cayley, dop853_quat, "
+       "steps (rtol, atol) need one of rkmk_dp5, rkmk_dp8, rkmk_vern9, rkmk_dp5_cayley, rkmk_dp8_cayley, "
+       "rkmk_vern9_cayley, dop853_quat, "
        "dop853_quat_renorm, dop853_mat, dop853_mat_renorm"},
       {"projection_on_symplectic", edit(h, "\"max_iterations\": 30", "\"max_iterations\": 30, \"projection\": true"),
        "lgi: error: {file}: /integrator/projection: method lgvi is symplectic (its energy error stays "

@@ -240,6 +240,9 @@ TEST(NoAllocation, RkmkFamilyBaselinesProjectionAdaptive) {
   expect_no_allocation<RkmkDp8>(body, x0);
   expect_no_allocation<Rkmk4Cayley>(top, x0);
   expect_no_allocation<RkmkDp8Cayley>(body, x0);
+  expect_no_allocation<RkmkVern9>(top, x0);
+  expect_no_allocation<RkmkVern9>(body, x0);
+  expect_no_allocation<RkmkVern9Cayley>(top, x0);
   expect_no_allocation<Rk4Quat>(top, x0);
   expect_no_allocation<Rk4MatRenorm>(top, x0);
   expect_no_allocation<Dop853QuatRenorm>(top, x0);
@@ -252,6 +255,9 @@ TEST(NoAllocation, RkmkFamilyBaselinesProjectionAdaptive) {
   expect_no_allocation_adaptive<RkmkDp8<FreeBody<double>>>(body, x0);
   expect_no_allocation_adaptive<RkmkDp8Cayley<HeavyTop<double>>>(top, x0);
   expect_no_allocation_adaptive<Projected<RkmkDp8Cayley<HeavyTop<double>>>>(top, x0);
+  expect_no_allocation_adaptive<RkmkVern9<HeavyTop<double>>>(top, x0);
+  expect_no_allocation_adaptive<RkmkVern9Cayley<HeavyTop<double>>>(top, x0);
+  expect_no_allocation_adaptive<RkmkVern9<FreeBody<double>>>(body, x0);
   expect_no_allocation_adaptive<Projected<RkmkDp5<HeavyTop<double>>>>(top, x0);
   expect_no_allocation_adaptive<Dop853MatRenorm<HeavyTop<double>>>(top, x0);
 }
