@@ -270,13 +270,25 @@ def main():
             if b.get("time_unit") == "ns":
                 ns /= 1000.0
             rows.setdefault(method, {})[problem] = ns
+        # instructions per step on the HV heavy top from the same run's callgrind.md, beside the times
+        instr = {}
+        cg = os.path.join(a.results, "callgrind.md")
+        if os.path.exists(cg):
+            for line in open(cg):
+                cells = [c.strip() for c in line.strip().strip("|").split("|")]
+                if len(cells) >= 3 and cells[1] == "heavy_top":
+                    try:
+                        instr[cells[0]] = float(cells[2])
+                    except ValueError:
+                        pass
         w("## Cost per step (Google Benchmark, ns/step, median)")
         w("")
-        w("`bench_steps`, h = 0.01, periods of 1000 steps (benchmarks/bench_cases.hpp). Floors: the prototype "
-          "anchors of shared/NUMERICS.md (issue 5: within 1.5×).")
+        w("`bench_steps`, h = 0.01, periods of 1000 steps (benchmarks/bench_cases.hpp), every method of the "
+          "registry; instructions per step on the HV heavy top from callgrind (next section). Floors: the "
+          "prototype anchors of shared/NUMERICS.md (issue 5: within 1.5×).")
         w("")
-        w("| method | heavy_top | free_body | anchor (NUMERICS.md) | heavy_top / anchor |")
-        w("|---|---:|---:|---|---:|")
+        w("| method | heavy_top ns | free_body ns | heavy_top instr. | anchor (NUMERICS.md) | heavy_top / anchor |")
+        w("|---|---:|---:|---:|---|---:|")
         for method in sorted(rows, key=lambda k: rows[k].get("heavy_top", 1e9)):
             r = rows[method]
             an = ANCHORS.get(method)
@@ -284,9 +296,10 @@ def main():
             if an and "heavy_top" in r:
                 q = r["heavy_top"] / an[1]
                 ratio = ("**%.2f**" % q) if q > 1.5 else "%.2f" % q
-            w("| %s | %s | %s | %s | %s |" % (
+            w("| %s | %s | %s | %s | %s | %s |" % (
                 method, "%.0f" % r["heavy_top"] if "heavy_top" in r else "—",
                 "%.0f" % r["free_body"] if "free_body" in r else "—",
+                "%.0f" % instr[method] if method in instr else "—",
                 ("%s: %d ns" % (an[0], an[1])) if an else "", ratio))
         w("")
     cg_path = os.path.join(a.results, "callgrind.md")
