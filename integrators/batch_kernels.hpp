@@ -19,7 +19,9 @@
 #include "../core/integrator.hpp"
 #include "batch_lanes.hpp"
 
+#include <cstddef>
 #include <cstdint>
+#include <span>
 
 namespace lgi {
 
@@ -31,6 +33,20 @@ static_assert(sizeof(StepStatus) == 1);
 inline constexpr int baseline_width = 4;
 inline constexpr int avx2_width = 8;
 inline constexpr int avx512_width = 16;
+
+// A kernel's view of a BodyBatch (LgviIO, Rkmk4IO): pointers to its structure-of-arrays columns, and the
+// per-body b or nullptr.
+template <class IO, class Batch>
+IO bind_io(Batch& batch, std::span<const double> b) {
+  IO io{};
+  for (std::size_t e = 0; e < 9; ++e) io.R[e] = batch.R[e].data();
+  for (std::size_t j = 0; j < 3; ++j) io.Omega[j] = batch.Omega[j].data();
+  io.status = reinterpret_cast<std::uint8_t*>(batch.status.data());
+  io.steps = batch.steps.data();
+  io.b = b.empty() ? nullptr : b.data();
+  io.n = batch.size();
+  return io;
+}
 }  // namespace batch_kernel
 
 enum class BatchKernel : std::uint8_t { automatic, baseline, avx2, per_body, avx512 };

@@ -147,13 +147,7 @@ BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, 
     p.b = problem.b;
   }
 
-  batch_kernel::LgviIO io{};
-  for (int e = 0; e < 9; ++e) io.R[e] = batch.R[static_cast<std::size_t>(e)].data();
-  for (int j = 0; j < 3; ++j) io.Omega[j] = batch.Omega[static_cast<std::size_t>(j)].data();
-  io.status = reinterpret_cast<std::uint8_t*>(batch.status.data());
-  io.steps = batch.steps.data();
-  io.b = b.empty() ? nullptr : b.data();
-  io.n = batch.size();
+  const auto io = batch_kernel::bind_io<batch_kernel::LgviIO>(batch, b);
 
   const int width = batch_kernel_width(kernel);
   const std::size_t blocks = (batch.size() + static_cast<std::size_t>(width) - 1) / static_cast<std::size_t>(width);
