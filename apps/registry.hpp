@@ -51,6 +51,15 @@ struct variant_of<ProblemList<Ps...>> {
 template <template <class> class Method, class P>
 inline constexpr bool method_applies_v = requires { typename Method<P>; } && Stepper<Method<P>>;
 
+// f.template operator()<M>() for every method M of the list that applies to P, in the list's order.
+template <class P, template <class> class... Ms, class F>
+void for_each_method(MethodList<Ms...>, F&& f) {
+  const auto one = [&]<template <class> class M>() {
+    if constexpr (method_applies_v<M, P>) f.template operator()<M>();
+  };
+  (one.template operator()<Ms>(), ...);
+}
+
 }  // namespace lgi::app
 
 #include "methods_composition.hpp"

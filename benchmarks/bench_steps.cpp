@@ -45,20 +45,19 @@ void add(const std::string& method, const std::string& problem_name, const P& pr
 }
 
 // Every method of the registry that applies to the problem (`lgi list`; the same list as lgi_step_count's).
-template <class P, template <class> class... Ms>
-void add_all(const std::string& problem_name, const P& problem, lgi::app::MethodList<Ms...>) {
-  const auto add_one = [&]<template <class> class M>() {
-    if constexpr (lgi::app::method_applies_v<M, P>) add<M<P>>(std::string(M<P>::traits.name), problem_name, problem);
-  };
-  (add_one.template operator()<Ms>(), ...);
+template <class P>
+void add_all(const std::string& problem_name, const P& problem) {
+  lgi::app::for_each_method<P>(lgi::app::Methods{}, [&]<template <class> class M>() {
+    add<M<P>>(std::string(M<P>::traits.name), problem_name, problem);
+  });
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  add_all("heavy_top", bench::heavy_top_hv(), lgi::app::Methods{});
-  add_all("heavy_top_tilted", bench::heavy_top_tilted(), lgi::app::Methods{});
-  add_all("free_body", bench::free_body_hv(), lgi::app::Methods{});
+  add_all("heavy_top", bench::heavy_top_hv());
+  add_all("heavy_top_tilted", bench::heavy_top_tilted());
+  add_all("free_body", bench::free_body_hv());
   add<bench::QuatRk4>("rk4quat", "heavy_top", bench::heavy_top_hv());
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

@@ -57,23 +57,20 @@ int run(const P& problem, long nsteps) {
 }
 
 // Every method of the registry that applies to heavy_top (lgi list), then the hand-written baseline.
-template <template <class> class... Ms>
-void list_methods(lgi::app::MethodList<Ms...>) {
-  ((lgi::app::method_applies_v<Ms, lgi::HeavyTop<double>>
-        ? (void)std::printf("%s\n", std::string(Ms<lgi::HeavyTop<double>>::traits.name).c_str())
-        : (void)0),
-   ...);
+void list_methods() {
+  using P = lgi::HeavyTop<double>;
+  lgi::app::for_each_method<P>(lgi::app::Methods{}, [&]<template <class> class M>() {
+    std::printf("%s\n", std::string(M<P>::traits.name).c_str());
+  });
   std::printf("rk4quat\n");
 }
 
-template <class P, template <class> class... Ms>
-int run_method(std::string_view method, const P& problem, long nsteps, lgi::app::MethodList<Ms...>) {
+template <class P>
+int run_method(std::string_view method, const P& problem, long nsteps) {
   int rc = -1;
-  const auto try_method = [&]<template <class> class M>() {
-    if constexpr (lgi::app::method_applies_v<M, P>)
-      if (rc < 0 && M<P>::traits.name == method) rc = run<M<P>>(problem, nsteps);
-  };
-  (try_method.template operator()<Ms>(), ...);
+  lgi::app::for_each_method<P>(lgi::app::Methods{}, [&]<template <class> class M>() {
+    if (rc < 0 && M<P>::traits.name == method) rc = run<M<P>>(problem, nsteps);
+  });
   if (rc >= 0) return rc;
   if constexpr (std::is_same_v<P, lgi::HeavyTop<double>>)
     if (method == "rk4quat") return run<bench::QuatRk4>(problem, nsteps);
@@ -86,7 +83,7 @@ int run_method(std::string_view method, const P& problem, long nsteps, lgi::app:
 
 int main(int argc, char** argv) {
   if (argc == 2 && std::string_view(argv[1]) == "--list") {
-    list_methods(lgi::app::Methods{});
+    list_methods();
     return 0;
   }
   if (argc != 4) {
@@ -104,9 +101,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "lgi_step_count: rk4quat runs the heavy_top case only\n");
     return 2;
   }
-  if (problem == "heavy_top") return run_method(method, bench::heavy_top_hv(), nsteps, lgi::app::Methods{});
-  if (problem == "heavy_top_tilted") return run_method(method, bench::heavy_top_tilted(), nsteps, lgi::app::Methods{});
-  if (problem == "free_body") return run_method(method, bench::free_body_hv(), nsteps, lgi::app::Methods{});
+  if (problem == "heavy_top") return run_method(method, bench::heavy_top_hv(), nsteps);
+  if (problem == "heavy_top_tilted") return run_method(method, bench::heavy_top_tilted(), nsteps);
+  if (problem == "free_body") return run_method(method, bench::free_body_hv(), nsteps);
   std::fprintf(stderr, "lgi_step_count: unknown problem '%s'\n", argv[2]);
   return 2;
 }

@@ -34,11 +34,10 @@ inline constexpr int baseline_width = 4;
 inline constexpr int avx2_width = 8;
 inline constexpr int avx512_width = 16;
 
-// A kernel's view of a BodyBatch (LgviIO, Rkmk4IO): pointers to its structure-of-arrays columns, and the
-// per-body b or nullptr.
-template <class IO, class Batch>
-IO bind_io(Batch& batch, std::span<const double> b) {
-  IO io{};
+// The kernels' view of a BodyBatch: pointers to its structure-of-arrays columns, and the per-body b or nullptr.
+template <class Batch>
+BatchIO bind_io(Batch& batch, std::span<const double> b) {
+  BatchIO io{};
   for (std::size_t e = 0; e < 9; ++e) io.R[e] = batch.R[e].data();
   for (std::size_t j = 0; j < 3; ++j) io.Omega[j] = batch.Omega[j].data();
   io.status = reinterpret_cast<std::uint8_t*>(batch.status.data());

@@ -13,11 +13,24 @@
 // Limits: GCC (or Clang) only — vector extensions, x86 builtins and __builtin_bit_cast.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 namespace lgi::batch_kernel {
 // Status codes written per body; equal to lgi::StepStatus (batch_kernels.hpp static_asserts it).
 inline constexpr std::uint8_t status_ok = 0, status_not_converged = 1, status_non_finite = 2;
+
+// A batch in structure-of-arrays form, as every kernel reads and writes it. R[3r + c][i] is R(r, c) of body
+// i; Omega is read at the start and written at the end. status and steps receive the outcome per body; b is the
+// per-body b = m g ℓ, or nullptr (then the kernel's parameters' b).
+struct BatchIO {
+  double* R[9];
+  double* Omega[3];
+  std::uint8_t* status;
+  std::int64_t* steps;
+  const double* b;
+  std::size_t n;
+};
 }  // namespace lgi::batch_kernel
 
 #ifndef LGI_BATCH_ISA

@@ -147,7 +147,7 @@ BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, 
     p.b = problem.b;
   }
 
-  const auto io = batch_kernel::bind_io<batch_kernel::LgviIO>(batch, b);
+  const auto io = batch_kernel::bind_io(batch, b);
 
   const int width = batch_kernel_width(kernel);
   const std::size_t blocks = (batch.size() + static_cast<std::size_t>(width) - 1) / static_cast<std::size_t>(width);

@@ -37,6 +37,8 @@
 // instruction set.
 #pragma once
 
+#include "batch_lanes.hpp"
+
 #include <cstddef>
 #include <cstdint>
 
@@ -56,20 +58,10 @@ struct LgviParams {
   double b;
 };
 
-// The batch in structure-of-arrays form. R[3r + c][i] is R(r, c) of body i. Omega is read at the start
-// and written at the end (Π = JΩ inside). status and steps receive the outcome per body.
-struct LgviIO {
-  double* R[9];
-  double* Omega[3];
-  std::uint8_t* status;
-  std::int64_t* steps;
-  const double* b;  // per-body b, or nullptr (then LgviParams::b)
-  std::size_t n;
-};
+using LgviIO = BatchIO;  // batch_lanes.hpp
 
 }  // namespace lgi::batch_kernel
 
-#include "batch_lanes.hpp"
 
 namespace lgi::batch_kernel::LGI_BATCH_ISA {
 

@@ -141,7 +141,7 @@ BatchKernel integrate_batch_rkmk4(const P& problem, BodyBatch& batch, double t0,
   p.b3 = T.b[3];
   p.exp_coefficients = &batch_kernel::rkmk4_exp_coefficients;
 
-  const auto io = batch_kernel::bind_io<batch_kernel::Rkmk4IO>(batch, b);
+  const auto io = batch_kernel::bind_io(batch, b);
 
   const int width = batch_kernel_width(kernel);
   const std::size_t blocks = (batch.size() + static_cast<std::size_t>(width) - 1) / static_cast<std::size_t>(width);

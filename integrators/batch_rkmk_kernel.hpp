@@ -38,6 +38,8 @@
 
 #include "../core/trig.hpp"
 
+#include "batch_lanes.hpp"
+
 #include <cstddef>
 #include <cstdint>
 
@@ -55,19 +57,10 @@ struct Rkmk4Params {
   void (*exp_coefficients)(const double* w, double* AB);  // AB = (A, B) of so3::exp_coefficients(w)
 };
 
-// The batch in structure-of-arrays form: R[3r + c][i] is R(r, c) of body i; status and steps receive the outcome.
-struct Rkmk4IO {
-  double* R[9];
-  double* Omega[3];
-  std::uint8_t* status;
-  std::int64_t* steps;
-  const double* b;  // per-body b, or nullptr (then Rkmk4Params::b)
-  std::size_t n;
-};
+using Rkmk4IO = BatchIO;  // batch_lanes.hpp
 
 }  // namespace lgi::batch_kernel
 
-#include "batch_lanes.hpp"
 
 namespace lgi::batch_kernel::LGI_BATCH_ISA {
 
