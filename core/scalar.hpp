@@ -5,6 +5,11 @@
 // recognised by duck typing. Branches that depend on the size of a quantity (small-angle Taylor
 // branches, Newton convergence tests) read the *value part* through `value_of`, so the branch taken
 // is the same for a Jet as for its double value.
+//
+// Three kinds of scalar: the arithmetic types (float, double, long double); ceres::Jet (a value part x.a
+// and derivatives x.v); and a real class type without derivatives that has std::numeric_limits and finds
+// its sqrt, sin, atan2, isfinite … by argument-dependent lookup (boost::multiprecision::float128 in
+// tests/test_quad_order.cpp, which runs the RKMK methods in quad precision). The core includes neither.
 #pragma once
 
 #include <Eigen/Core>
@@ -47,13 +52,24 @@ using Vec3 = Eigen::Matrix<T, 3, 1>;
 template <class T>
 using Mat3 = Eigen::Matrix<T, 3, 3>;
 
-// The value part of a scalar: x itself for arithmetic types, x.a (recursively) for ceres::Jet.
+namespace detail {
+// A real scalar of class type: numeric_limits specialised, no value part (not a Jet), e.g.
+// boost::multiprecision::float128. Eigen matrices have no numeric_limits.
+template <class T>
+inline constexpr bool is_real_class_v =
+    !std::is_arithmetic_v<T> && std::numeric_limits<T>::is_specialized && !requires(const T& x) { x.a; };
+}  // namespace detail
+
+// The value part of a scalar: x itself for arithmetic types and real class types, x.a (recursively) for
+// ceres::Jet.
 template <class T>
 constexpr auto value_of(const T& x) {
   if constexpr (std::is_arithmetic_v<T>) {
     return x;
   } else if constexpr (requires { x.a; }) {
     return value_of(x.a);
+  } else if constexpr (detail::is_real_class_v<T>) {
+    return x;
   } else {
     static_assert(std::is_arithmetic_v<T>, "lgi::value_of: unsupported scalar type");
     return 0.0;
@@ -63,7 +79,7 @@ constexpr auto value_of(const T& x) {
 // True when T carries derivative parts (Jets): Newton loops then take one extra iteration so that
 // the derivative part converges too (implicit function theorem), see NUMERICS.md "Traps".
 template <class T>
-inline constexpr bool is_dual_v = !std::is_arithmetic_v<T>;
+inline constexpr bool is_dual_v = !std::is_arithmetic_v<T> && !detail::is_real_class_v<T>;
 
 // Every component finite, value and derivative parts alike (ceres::isfinite checks only the value).
 template <class T>
@@ -72,6 +88,9 @@ bool all_finite(const T& x) {
     return std::isfinite(x);
   } else if constexpr (requires { x.a; x.v; }) {
     return all_finite(x.a) && x.v.allFinite();
+  } else if constexpr (detail::is_real_class_v<T>) {
+    using std::isfinite;
+    return static_cast<bool>(isfinite(x));
   } else if constexpr (std::is_arithmetic_v<typename T::Scalar>) {
     return x.allFinite();  // vectorised (x − x == x − x)
   } else {                 // a plain Eigen matrix or vector of Jets
