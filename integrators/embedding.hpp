@@ -175,7 +175,7 @@ class EmbeddedRk {
   }();
   static constexpr bool has_second_estimate = [] {
     if constexpr (embedded) {
-      for (const double e : Tableau.e3)
+      for (const auto e : Tableau.e3)
         if (e != 0) return true;
     }
     return false;
@@ -347,7 +347,7 @@ class EmbeddedRk {
   }
 
   template <Weights W, int I>
-  static constexpr double weight() {
+  static constexpr auto weight() {
     if constexpr (W == Weights::b)
       return Tableau.b[I];
     else if constexpr (W == Weights::e)

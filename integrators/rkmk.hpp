@@ -70,12 +70,20 @@
 // about DOP853's cost per stage (callgrind, HV heavy top, h = 0.01, fixed steps, which form 15 of its 16
 // stages: rkmk_vern9 5001, rkmk_vern9_cayley 3611 instructions; DOP853 4308, 2838 for 12 stages).
 // Measured (tests/test_rkmk_family.cpp, test_adaptive.cpp): orders 8.84 (skew top) and 8.98 (free body) in the
-// exponential chart; in Cayley coordinates its errors fall faster than h⁹ everywhere above the round-off floor
-// (9.5 on the skew top, 10.0 on the free body: large h¹⁰ terms). Round-off of one step, double against long
+// exponential chart; in Cayley coordinates its errors fall faster than h⁹ everywhere above the double round-off
+// floor (9.5 on the skew top, 10.0 on the free body: large h¹⁰ terms), and with order 9 below it
+// (tests/test_quad_order.cpp, coefficients tableaus::verner9_in<C> parsed to the run's precision): 9.002 in
+// binary128 on the skew top (errors 7.8e-21 … 1.5e-29), 9.096 in 50 digits on the GNI free body (3.7e-27 …
+// 7.2e-37; binary128 stops at 9.53 there); DOP853 in Cayley coordinates 8.002 on the GNI body in binary128. Round-off of one step, double against long
 // double, h = 0.1 … 0.3: 2.1e-16 at the step's end (DOP853 9.5e-16) but 8.5e-13 in the dense output (DOP853
 // 3.6e-14): its interpolant's weights are degree-9 polynomials with coefficients up to 1.07e4, whose Horner
 // sums carry ≈ 1e-12 absolute round-off — output times read between steps are that far off, whatever the
 // tolerance (and 5.3e-14 h in long double, from the coefficients' own rounding to double).
+//
+// Scalars and coefficients: any scalar of core/scalar.hpp (double, long double, ceres::Jet, a real class type
+// such as boost::multiprecision::float128), and a tableau with any coefficient type the scalar can be made from
+// (Scalar(Tableau.a[i][j]); zero tests at compile time): the double tableaus, or tableaus::verner9_in<C> and
+// dop853_in<C> for runs beyond double precision.
 //
 // Order: that of the tableau. R stays on SO(3) to round-off (products of exponentials or Cayley
 // rotations). Not symplectic, not symmetric; energy and momentum drift like those of the underlying
@@ -135,7 +143,7 @@ class Rkmk {
   }();
   static constexpr bool has_second_estimate = [] {
     if constexpr (embedded) {
-      for (const double e : Tableau.e3)
+      for (const auto e : Tableau.e3)
         if (e != 0) return true;
     }
     return false;
@@ -320,7 +328,7 @@ class Rkmk {
   }
 
   template <Weights W, int I>
-  static constexpr double weight() {
+  static constexpr auto weight() {
     if constexpr (W == Weights::b)
       return Tableau.b[I];
     else if constexpr (W == Weights::e)
