@@ -1,0 +1,271 @@
+// Observed orders in the asymptotic regime, beyond double: the two RKMK methods whose h^(p+1) error term
+// outweighs the h^p term down to the round-off floor of double and long double (tests/test_rkmk_family.cpp:
+// rkmk_vern9_cayley 9.46 on the skew top and 10.0 on the GNI body, rkmk_dp8_cayley 8.23 on the GNI body) run in
+// binary128 (boost::multiprecision::float128) or, where even that is too shallow, in 50 digits (Boost's
+// cpp_bin_float), with coefficients parsed from the source's decimal text to that precision
+// (tableaus::verner9_in<C>, dop853_in<C>), against an independent reference in the same precision
+// (Gragg–Bulirsch–Stoer on the embedding, tests/quad_measure.hpp), at steps small enough that the leading term
+// dominates; the fit is that of tests/order_measure.hpp (least-squares slope of log error against log h, every
+// error > 100× the reference's). Measured (Release, the whole file 6.1 s on one core, 5.0 s of it the 50-digit
+// test):
+//
+//   rkmk_vern9_cayley, skew heavy top, binary128:  9.002 over errors 7.8e-21 … 1.5e-29 (local slopes 9.01 → 9.00,
+//                                                  e/h⁹ → 6.92e-7), reference 1.1e-32
+//   rkmk_vern9_cayley, GNI free body, 50 digits:   9.096 over errors 3.7e-27 … 7.2e-37 (local slopes 9.30 → 9.02,
+//                                                  e/h⁹ 3.70e-9 → 2.84e-9), reference 5.0e-46
+//     the same in binary128 (a finding):           9.53 over 8.8e-21 … 4.3e-29 — the h¹⁰ term is as large as the
+//                                                  h⁹ one near h = 0.04 (e/h⁹ ≈ 2.8e-9 + 7e-8 h), and binary128
+//                                                  runs out (reference 8.3e-32) while the local slope is still 9.2
+//   rkmk_dp8_cayley, GNI free body, binary128:     8.002 over 3.5e-17 … 1.1e-25
+//   rkmk_dp8_cayley, skew heavy top, binary128:    8.012 over 5.1e-17 … 1.5e-25
+//
+// Also: the coefficients meet the order conditions to the precision they are parsed in, the two decimal parsers
+// agree with each other and with libquadmath, and a control with the double literals run in binary128 shows the
+// floor (1.3e-16) that hides the order in double.
+#include "quad_measure.hpp"
+#include "test_problems.hpp"
+
+#include <lgi/core/driver.hpp>
+#include <lgi/integrators/butcher_tableaus.hpp>
+#include <lgi/integrators/rkmk.hpp>
+#include <lgi/problems/free_body.hpp>
+#include <lgi/problems/heavy_top.hpp>
+
+#include <gtest/gtest.h>
+#include <quadmath.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace lgi {
+namespace {
+
+using test::quad::DoubleQuad;
+using test::quad::Fit;
+using test::quad::Q;
+using test::quad::Reference;
+using test::quad::Wide;
+
+// Coefficients in binary128 (GCC's __float128: a literal type, so the tableaus stay constexpr data) for runs in
+// binary128; in DoubleQuad (all 40 of Verner's digits) for runs in 50 digits.
+template <class P>
+using Vern9CayleyQ = Rkmk<tableaus::verner9_in<__float128>, P, -1, LieChart::cayley>;
+template <class P>
+using Dop853CayleyQ = Rkmk<tableaus::dop853_in<__float128>, P, -1, LieChart::cayley>;
+template <class P>
+using Vern9CayleyWide = Rkmk<tableaus::verner9_in<DoubleQuad>, P, -1, LieChart::cayley>;
+
+// The control: Verner's coefficients as the double literals (tableaus::verner9), run in binary128.
+inline constexpr auto verner9_double_in_quad = test::quad::with_coefficients<__float128>(tableaus::verner9);
+template <class P>
+using Vern9CayleyDoubleCoefficients = Rkmk<verner9_double_in_quad, P, -1, LieChart::cayley>;
+
+// The cases of tests/order_measure.hpp: the skew heavy top (non-diagonal J, z0 and k off the principal axes,
+// T = 2) and the GNI book's free body (J = diag(2, 1, 2/3), m0 = (cos 1.1, 0, sin 1.1), T = 10). GBS macro steps
+// H = 0.1 (test::quad::make_reference).
+const FreeBody<double>& gni_body() {
+  static const FreeBody<double> p{Vec3<double>(2.0, 1.0, 2.0 / 3).asDiagonal()};
+  return p;
+}
+State<double> gni_state() {
+  return {Mat3<double>::Identity(), gni_body().inertia.inverse() * Vec3<double>(std::cos(1.1), 0.0, std::sin(1.1))};
+}
+const Reference<Q>& skew_reference() {
+  static const Reference<Q> r =
+      test::quad::make_reference<Q>(test::skew_heavy_top(), test::skew_initial_state(), 2.0, 20);
+  return r;
+}
+const Reference<Q>& gni_reference() {
+  static const Reference<Q> r = test::quad::make_reference<Q>(gni_body(), gni_state(), 10.0, 100);
+  return r;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// ---- the coefficients -------------------------------------------------------------------------------------
+
+// Largest residual |Σ b_i Φ_i(τ) − 1/γ(τ)| over the trees of each order (rk_order_conditions.hpp's trees):
+// Verner 9(8), orders ≤ 9: 4.1e-34 parsed to binary128 (evaluated in binary128), 3.2e-40 parsed to DoubleQuad
+// (evaluated in 50 digits: the 40 digits of the source), 1.3e-16 as the double literals; order 10: 1.76e-6 in
+// all three (order exactly 9). DOP853, orders ≤ 8: 2.9e-29 parsed to binary128 (dop853.f's 28–30 digits); order
+// 9: 2.7e-5. And each binary128 coefficient rounds to the double the compiler made of the same literal.
+TEST(QuadOrder, CoefficientsMeetTheOrderConditionsToTheirPrecision) {
+  const auto quad = test::quad::order_residuals<Q>(tableaus::verner9_in<__float128>, 16, 10);
+  const auto wide = test::quad::order_residuals<Wide>(tableaus::verner9_in<DoubleQuad>, 16, 10);
+  const auto dbl = test::quad::order_residuals<Q>(verner9_double_in_quad, 16, 10);
+  const auto dop = test::quad::order_residuals<Q>(tableaus::dop853_in<__float128>, 12, 9);
+  for (std::size_t k = 0; k < 10; ++k) {
+    std::printf("order %2zu: largest residual, Verner 9(8): binary128 %.2e, DoubleQuad (50 digits) %.2e, double "
+                "literals %.2e",
+                k + 1, quad[k], wide[k], dbl[k]);
+    if (k < dop.size()) std::printf("; DOP853 binary128 %.2e", dop[k]);
+    std::printf("\n");
+  }
+  const auto largest = [](const std::vector<double>& r, std::size_t orders) {
+    return *std::max_element(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(orders));
+  };
+  EXPECT_LT(largest(quad, 9), 1e-33);
+  EXPECT_LT(largest(wide, 9), 1e-39);
+  EXPECT_GT(largest(dbl, 9), 1e-17);
+  for (const auto& r : {quad, wide, dbl}) EXPECT_GT(r[9], 1e-6) << "order 10 holds: not order 9 exactly";
+  EXPECT_LT(largest(dop, 8), 1e-28);
+  EXPECT_GT(dop[8], 1e-6) << "DOP853: order 9 holds";
+
+  const auto& q9 = tableaus::verner9_in<__float128>;
+  const auto& d9 = tableaus::verner9;
+  const auto& q8 = tableaus::dop853_in<__float128>;
+  const auto& d8 = tableaus::dop853;
+  int differ = 0, compared = 0;
+  const auto same = [&](__float128 q, double d) {
+    ++compared;
+    differ += static_cast<double>(q) != d;
+  };
+  for (std::size_t i = 0; i < 26; ++i) {
+    same(q9.c[i], d9.c[i]);
+    for (std::size_t j = 0; j < 26; ++j) same(q9.a[i][j], d9.a[i][j]);
+    for (std::size_t m = 0; m < 9; ++m) same(q9.dense[i][m], d9.dense[i][m]);
+  }
+  for (std::size_t i = 0; i < 16; ++i) same(q9.e[i], d9.e[i]);
+  for (std::size_t i = 0; i < 16; ++i) {
+    same(q8.c[i], d8.c[i]);
+    for (std::size_t j = 0; j < 16; ++j) same(q8.a[i][j], d8.a[i][j]);
+  }
+  for (std::size_t i = 0; i < 12; ++i) same(q8.e[i], d8.e[i]);
+  std::printf("%d of %d binary128 coefficients round to a different double than the literal\n", differ, compared);
+  EXPECT_EQ(differ, 0);
+}
+
+// The two parsers against each other and against libquadmath: tableaus::detail::parse_decimal (binary128, two
+// roundings) is within one unit in the last place of DoubleQuad's hi (the binary128 nearest to the ≈ 2⁻²²⁰-accurate
+// DoubleQuad value) for every coefficient of Verner's tableau (DOP853's tableau computes e3 and its dense weights,
+// which DoubleQuad, having no arithmetic, cannot); DoubleQuad's hi equals strtoflt128 (correctly rounded) on three
+// literals copied from the source, and parse_decimal is within one unit of it.
+TEST(QuadOrder, DecimalParsersAgree) {
+  const auto ulps = [](__float128 a, __float128 b) {
+    if (a == b) return 0.0;
+    int e = 0;
+    frexp(Q(b), &e);
+    return static_cast<double>(abs(Q(a) - Q(b)) / ldexp(Q(1), e - 113));
+  };
+  int exact = 0, count = 0;
+  double worst = 0;
+  const auto compare = [&](__float128 q, const DoubleQuad& w) {
+    const double u = ulps(q, w.hi);
+    worst = std::max(worst, u);
+    exact += u == 0;
+    ++count;
+  };
+  const auto& q9 = tableaus::verner9_in<__float128>;
+  const auto& w9 = tableaus::verner9_in<DoubleQuad>;
+  for (std::size_t i = 0; i < 26; ++i) {
+    compare(q9.c[i], w9.c[i]);
+    for (std::size_t j = 0; j < 26; ++j) compare(q9.a[i][j], w9.a[i][j]);
+    for (std::size_t m = 0; m < 9; ++m) compare(q9.dense[i][m], w9.dense[i][m]);
+  }
+  for (std::size_t i = 0; i < 16; ++i) compare(q9.e[i], w9.e[i]);
+  std::printf("binary128 parse against DoubleQuad: %d of %d equal, the largest difference %.2f ulp\n", exact, count,
+              worst);
+  EXPECT_LE(worst, 1.0);
+  for (const char* text : {"0.09702435063878044594828361677100617517633", "-13.93734253810777678786523664804936051203",
+                           "0.220588235294117647058823529412e-1"}) {
+    const __float128 libquadmath = strtoflt128(text, nullptr);
+    EXPECT_TRUE(DoubleQuad::from_decimal(text).hi == libquadmath) << text;
+    EXPECT_LE(ulps(tableaus::detail::parse_decimal<__float128>(text), libquadmath), 1.0) << text;
+  }
+}
+
+// ---- Verner 9(8) in Cayley coordinates --------------------------------------------------------------------
+
+const Fit& vern9_cayley_skew_fit() {
+  static const Fit fit = test::quad::observed_order<Vern9CayleyQ>(
+      test::skew_heavy_top(), test::skew_initial_state(), 2.0, skew_reference(), 1e-20, 1e-28, 12, 9,
+      "rkmk_vern9_cayley skew top (binary128)");
+  return fit;
+}
+
+// The skew heavy top in binary128, errors 1e-20 … 1e-28: 9.002, e/h⁹ settled at 6.92e-7 (within 0.6 % over the
+// window). (The long-double fit of e/h⁹ = A + B h over h = 0.13 … 0.33 had put A at 4.4e-7.)
+TEST(QuadOrder, Vern9CayleyOnTheSkewHeavyTop) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Fit& fit = vern9_cayley_skew_fit();
+  std::printf("(%.2f s)\n", seconds_since(t0));
+  EXPECT_NEAR(fit.order, 9.0, 0.2);
+}
+
+// The GNI free body in 50 digits. The window starts at errors ≤ 1e-26, where the h⁹ term carries ≥ 3/4 of the
+// error (e/h⁹ = 3.70e-9 at h = 0.01 against its limit ≈ 2.84e-9), and runs to 1e-36: 9.096, local slopes 9.30 →
+// 9.02. The reference (GBS in 50 digits, two runs 5e-46 apart) and the coefficients (order conditions to 3e-40)
+// stay far below; n from 1000 (the runs above the window, n = 2 … 800, are skipped: they cost 5× binary128's).
+TEST(QuadOrder, Vern9CayleyOnTheGniFreeBody) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Reference<Wide> ref = test::quad::make_reference<Wide>(gni_body(), gni_state(), 10.0, 100);
+  EXPECT_LT(ref.error, 1e-40);
+  const Fit fit = test::quad::observed_order<Vern9CayleyWide>(gni_body(), gni_state(), 10.0, ref, 1e-26, 1e-36, 12, 9,
+                                                              "rkmk_vern9_cayley GNI body (50 digits)", 1000);
+  std::printf("(%.2f s)\n", seconds_since(t0));
+  EXPECT_NEAR(fit.order, 9.0, 0.2);
+  // still converging to 9 at the end of the window
+  EXPECT_LT(std::log(fit.error.back() / fit.error[fit.error.size() - 2]) / std::log(fit.h.back() / fit.h[fit.h.size() - 2]),
+            9.1);
+}
+
+// Finding: binary128 is too shallow for the GNI body. Over the window of the skew top (1e-20 … 1e-28) the fit is
+// 9.53, local slopes 9.80 → 9.22: on the free body the h⁹ coefficient is small against the h¹⁰ one
+// (e/h⁹ ≈ 2.8e-9 + 7e-8 h, as large at h ≈ 0.04), and 100× the binary128 reference's error (8.3e-30) is reached
+// before the h⁹ term dominates. The 50-digit test above follows it further.
+TEST(QuadOrderFindings, Vern9CayleyOnTheGniFreeBodyInBinary128) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Fit fit = test::quad::observed_order<Vern9CayleyQ>(gni_body(), gni_state(), 10.0, gni_reference(), 1e-20,
+                                                           1e-28, 12, 9, "rkmk_vern9_cayley GNI body (binary128)");
+  std::printf("(%.2f s)\n", seconds_since(t0));
+  EXPECT_GT(fit.order, 9.3);
+  EXPECT_LT(fit.order, 9.8);
+  for (std::size_t i = 1; i < fit.error.size(); ++i)  // e/h⁹ falls throughout: the excess over 9 is an h¹⁰ term
+    EXPECT_LT(fit.error[i] / std::pow(fit.h[i], 9), fit.error[i - 1] / std::pow(fit.h[i - 1], 9));
+}
+
+// ---- DOP853 in Cayley coordinates -------------------------------------------------------------------------
+
+// Errors 1e-16 … 1e-25 (DOP853's 28–30-digit coefficients put a floor near 1e-28 under the GNI body's errors:
+// at n = 5012 the error is 5.3e-28 against 4.4e-28 from e/h⁸; the window stops 1000× above it).
+TEST(QuadOrder, Dop853CayleyOnTheGniFreeBody) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Fit fit = test::quad::observed_order<Dop853CayleyQ>(gni_body(), gni_state(), 10.0, gni_reference(), 1e-16,
+                                                            1e-25, 12, 8, "rkmk_dp8_cayley GNI body (binary128)");
+  std::printf("(%.2f s)\n", seconds_since(t0));
+  EXPECT_NEAR(fit.order, 8.0, 0.2);
+}
+
+TEST(QuadOrder, Dop853CayleyOnTheSkewHeavyTop) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Fit fit = test::quad::observed_order<Dop853CayleyQ>(test::skew_heavy_top(), test::skew_initial_state(), 2.0,
+                                                            skew_reference(), 1e-16, 1e-25, 12, 8,
+                                                            "rkmk_dp8_cayley skew top (binary128)");
+  std::printf("(%.2f s)\n", seconds_since(t0));
+  EXPECT_NEAR(fit.order, 8.0, 0.2);
+}
+
+// ---- the control: double coefficients -----------------------------------------------------------------------
+
+// The binary128 runs of the skew-top fit again, with Verner's coefficients rounded to double: every error sits
+// on a floor of 1.26e-16 … 1.29e-16 (the order conditions hold only to 1.3e-16), the fitted slope is −0.01 —
+// the fit above sees the method, not the arithmetic.
+TEST(QuadOrderControl, DoubleCoefficientsHideTheOrder) {
+  const Fit& fit = vern9_cayley_skew_fit();
+  const Fit control = test::quad::errors_at<Vern9CayleyDoubleCoefficients>(
+      test::skew_heavy_top(), test::skew_initial_state(), 2.0, skew_reference(), fit.n, 9,
+      "rkmk_vern9_cayley skew top, double coefficients");
+  EXPECT_LT(std::abs(control.order), 0.5);
+  for (const double e : control.error) {
+    EXPECT_GT(e, 1e-17);
+    EXPECT_LT(e, 1e-15);
+  }
+}
+
+}  // namespace
+}  // namespace lgi
