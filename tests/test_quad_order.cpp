@@ -13,9 +13,10 @@
 //                                                  e/h⁹ → 6.92e-7), reference 1.1e-32
 //   rkmk_vern9_cayley, GNI free body, 50 digits:   9.096 over errors 3.7e-27 … 7.2e-37 (local slopes 9.30 → 9.02,
 //                                                  e/h⁹ 3.70e-9 → 2.84e-9), reference 5.0e-46
-//     the same in binary128 (a finding):           9.53 over 8.8e-21 … 4.3e-29 — the h¹⁰ term is as large as the
-//                                                  h⁹ one near h = 0.04 (e/h⁹ ≈ 2.8e-9 + 7e-8 h), and binary128
-//                                                  runs out (reference 8.3e-32) while the local slope is still 9.2
+//     the same in binary128 (a finding):           9.53 over 8.8e-21 … 4.3e-29 — the terms beyond h⁹ are large
+//                                                  (e/h⁹ twice its limit at h = 0.024, 15 % above it at 0.006),
+//                                                  and binary128 runs out (reference 8.3e-32) while the local
+//                                                  slope is still 9.2
 //   rkmk_dp8_cayley, GNI free body, binary128:     8.002 over 3.5e-17 … 1.1e-25
 //   rkmk_dp8_cayley, skew heavy top, binary128:    8.012 over 5.1e-17 … 1.5e-25
 //
@@ -215,9 +216,10 @@ TEST(QuadOrder, Vern9CayleyOnTheGniFreeBody) {
 }
 
 // Finding: binary128 is too shallow for the GNI body. Over the window of the skew top (1e-20 … 1e-28) the fit is
-// 9.53, local slopes 9.80 → 9.22: on the free body the h⁹ coefficient is small against the h¹⁰ one
-// (e/h⁹ ≈ 2.8e-9 + 7e-8 h, as large at h ≈ 0.04), and 100× the binary128 reference's error (8.3e-30) is reached
-// before the h⁹ term dominates. The 50-digit test above follows it further.
+// 9.53, local slopes 9.80 → 9.22: on the free body the terms beyond h⁹ are large against it (e/h⁹ is twice its
+// limit 2.84e-9 at h = 0.024, h|Ω(0)| = 0.03, and 15 % above it at h = 0.006, the last point), and 100× the
+// binary128 reference's error (8.3e-30) is reached while they still lift the slope above 9.2. The 50-digit test
+// above follows it further.
 TEST(QuadOrderFindings, Vern9CayleyOnTheGniFreeBodyInBinary128) {
   const auto t0 = std::chrono::steady_clock::now();
   const Fit fit = test::quad::observed_order<Vern9CayleyQ>(gni_body(), gni_state(), 10.0, gni_reference(), 1e-20,
