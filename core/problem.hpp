@@ -22,7 +22,10 @@
 #include "state.hpp"
 
 #include <array>
+#include <cmath>
 #include <concepts>
+#include <stdexcept>
+#include <string>
 #include <string_view>
 #include <type_traits>
 
@@ -53,9 +56,10 @@ concept RigidBodyProblem =
 // Optional on top of that, where the torque is a cross product with a constant body vector v (gravity on a
 // rigid body: v = b z0):
 //   Vec3<T> reduced_torque_lever() const;               // v, with reduced_torque(Γ) = Γ × v
-// The splittings then compute the torque as one cross product with v turned to principal axes once
-// (integrators/splitting.hpp) and check at construction that it agrees with reduced_torque on e1, e2, e3;
-// a derived problem that changes reduced_torque must change or remove the lever too.
+// The splittings and RKMK with a non-diagonal inertia tensor then compute the torque as one cross product
+// with v turned to principal axes once (integrators/splitting.hpp, rkmk.hpp) and check at construction that
+// it agrees with reduced_torque on e1, e2, e3 (check_reduced_torque_lever below); a derived problem that
+// changes reduced_torque must change or remove the lever too.
 template <class P>
 concept ReducedAttitudeProblem =
     RigidBodyProblem<P> &&
@@ -64,6 +68,28 @@ concept ReducedAttitudeProblem =
       { p.reduced_torque(g) } -> std::convertible_to<Vec3<typename P::Scalar>>;
     } &&
     !requires(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) { p.torque(t, R); };
+
+// A problem's reduced_torque_lever() must describe its reduced_torque(): Γ × v against reduced_torque(Γ) on
+// e1, e2, e3, to 1e-12 of |v| (a derived problem that changes reduced_torque but inherits the lever would
+// otherwise be integrated with the wrong torque). `who` names the integrator in the message.
+template <ReducedAttitudeProblem P>
+  requires requires(const P& p) { p.reduced_torque_lever(); }
+void check_reduced_torque_lever(const P& problem, std::string_view who) {
+  using S = typename P::Scalar;
+  using V = value_type_t<S>;
+  const Vec3<S> v(problem.reduced_torque_lever());
+  const V scale = static_cast<V>(value_of(v.cwiseAbs().maxCoeff()));
+  for (int i = 0; i < 3; ++i) {
+    const Vec3<S> e = Vec3<S>::Unit(i);
+    const Vec3<S> M(problem.reduced_torque(e)), L = e.cross(v);
+    for (int j = 0; j < 3; ++j) {
+      const V m = static_cast<V>(value_of(M(j))), l = static_cast<V>(value_of(L(j)));
+      if (!(std::abs(m - l) <= V(1e-12) * scale))
+        throw std::invalid_argument(std::string(who) +
+                                    ": the problem's reduced_torque_lever() does not match reduced_torque()");
+    }
+  }
+}
 
 // Body-frame torque at time t: the one place integrators get a torque from, so that every method sees
 // the same function — torque(t, R) for time-dependent problems, reduced_torque(Rᵀa) for reduced-attitude

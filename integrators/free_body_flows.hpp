@@ -244,53 +244,7 @@ void multiply_increment(Quaternion<T>& q, const T& x, const T& y, const T& z, co
 
 }  // namespace quat
 
-// Principal axes of a symmetric positive-definite J: J = Q diag(I) Qᵀ, det Q = +1. For a structurally
-// diagonal J (is_diagonal: zero off-diagonal entries, derivative parts included) Q = 1 and I = diag(J)
-// in the given order, so the principal axes are the body axes. Otherwise the moments are ascending.
-template <class T>
-struct PrincipalAxes {
-  Mat3<T> Q = Mat3<T>::Identity();
-  Vec3<T> I = Vec3<T>::Ones();
-  bool identity = true;
-
-  PrincipalAxes() = default;
-  explicit PrincipalAxes(const Mat3<T>& J) {
-    if (Inertia<T>::is_diagonal(J)) {
-      I = J.diagonal();
-      return;
-    }
-    identity = false;
-    using V = value_type_t<T>;
-    Mat3<V> J0;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) J0(r, c) = static_cast<V>(value_of(J(r, c)));
-    const Eigen::SelfAdjointEigenSolver<Mat3<V>> eig(J0);
-    Mat3<V> Q0 = eig.eigenvectors();
-    if (Q0.determinant() < 0) Q0.col(2) = -Q0.col(2);
-    const Vec3<V> l0 = eig.eigenvalues();
-    if constexpr (std::is_arithmetic_v<T>) {
-      Q = Q0;
-      I = l0;
-    } else {
-      // First-order perturbation: M = Q0ᵀ J Q0 has diagonal values, derivative parts anywhere.
-      const Mat3<T> Q0t = Q0.template cast<T>();
-      const Mat3<T> M = Q0t.transpose() * J * Q0t;
-      Mat3<T> K = Mat3<T>::Zero();
-      for (int i = 0; i < 3; ++i) {
-        I(i) = T(l0(i)) + (M(i, i) - T(value_of(M(i, i))));
-        for (int j = 0; j < 3; ++j) {
-          const V gap = l0(j) - l0(i);
-          if (i == j || !(std::abs(gap) > 1e-12 * std::abs(l0(2)))) continue;
-          K(i, j) = (M(i, j) - T(value_of(M(i, j)))) / T(gap);
-        }
-      }
-      Q = Q0t + Q0t * K;
-    }
-  }
-
-  Vec3<T> to_principal(const Vec3<T>& v) const { return identity ? v : Vec3<T>(Q.transpose() * v); }
-  Vec3<T> to_body(const Vec3<T>& v) const { return identity ? v : Vec3<T>(Q * v); }
-};
+// PrincipalAxes (J = Q diag(I) Qᵀ): core/inertia.hpp.
 
 // ---------------------------------------------------------------------------------------------------
 // (a) Axis rotations.

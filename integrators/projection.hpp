@@ -272,6 +272,15 @@ class Projected {
  private:
   bool project(typename S::Internal& z, const ProjectionTargets<Scalar>& target) const {
     if constexpr (std::is_same_v<typename S::Internal, State<Scalar>>) {
+      // RKMK with a non-diagonal J carries (R, Ω) in principal axes (rkmk.hpp): project in the body frame.
+      if constexpr (requires { inner_.internal_is_body_frame(); }) {
+        if (!inner_.internal_is_body_frame()) {
+          State<Scalar> x = inner_.to_state(z);
+          if (!projection_.project(x.R, x.Omega, target)) return false;
+          inner_.set_omega(z, x.Omega);
+          return true;
+        }
+      }
       return projection_.project(z.R, z.Omega, target);
     } else if constexpr (requires { z.Omega; }) {
       const State<Scalar> x = inner_.to_state(z);

@@ -150,9 +150,8 @@ class Splitting {
         for (int j = 0; j < 3; ++j) lab_identity_ = lab_identity_ && is_exact_zero(Scalar(lab_(i, j) - Scalar(i == j)));
       two_axis_norm_ = Scalar(2) * axis_norm_;
       if constexpr (has_lever) {
-        const Vec3<Scalar> v(problem_.reduced_torque_lever());
-        check_lever(v);
-        lever_ = two_axis_norm_ * axes_.to_principal(v);
+        check_reduced_torque_lever(problem_, "lgi::Splitting");
+        lever_ = two_axis_norm_ * axes_.to_principal(Vec3<Scalar>(problem_.reduced_torque_lever()));
       }
     }
   }
@@ -236,22 +235,6 @@ class Splitting {
   // then Γ_p × Qᵀv, one cross product with a vector rotated to principal axes once (measured 21
   // instructions a kick + DMV step fewer than through reduced_torque on the HV top, 65 with a non-diagonal J).
   static constexpr bool has_lever = reduced && requires(const P& p) { p.reduced_torque_lever(); };
-
-  // reduced_torque_lever() must describe reduced_torque(): checked on e1, e2, e3 (a derived problem that
-  // changes reduced_torque but inherits the lever would otherwise be integrated with the wrong torque).
-  void check_lever(const Vec3<Scalar>& v) const {
-    using V = value_type_t<Scalar>;
-    for (int i = 0; i < 3; ++i) {
-      const Vec3<Scalar> e = Vec3<Scalar>::Unit(i);
-      const Vec3<Scalar> M(problem_.reduced_torque(e)), L = e.cross(v);
-      for (int j = 0; j < 3; ++j) {
-        const V m = static_cast<V>(value_of(M(j))), l = static_cast<V>(value_of(L(j)));
-        const V scale = static_cast<V>(value_of(v.cwiseAbs().maxCoeff()));
-        if (!(std::abs(m - l) <= V(1e-12) * scale))
-          throw std::invalid_argument("lgi::Splitting: the problem's reduced_torque_lever() does not match reduced_torque()");
-      }
-    }
-  }
 
   // Principal-axis torque at the attitude q.
   Vec3<Scalar> torque(const Scalar& t, const Quaternion<Scalar>& q) const {

@@ -20,7 +20,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lgi {
@@ -511,6 +513,118 @@ TYPED_TEST(RkmkFamily, GenericTorquePathMatchesReducedPath) {
   integrate_to(reduced, xr, 0.0, 0.01, 2.0);
   integrate_to(generic, xg, 0.0, 0.01, 2.0);
   EXPECT_LT(test::state_distance(xr, xg), 1e-13) << SR::traits.name;
+}
+
+// ---- a non-diagonal J: the state in principal axes (integrators/rkmk.hpp) ----
+// In double a top with a non-diagonal J runs with R_p = R Q, Ω_p = QᵀΩ, J = diag(I) and the lever Qᵀ(b z0);
+// RKMK is equivariant under a constant change of body frame, so the runs are the body-frame runs up to
+// rounding. Jets keep the body frame: their value parts are the reference.
+using Jet1 = ceres::Jet<double, 1>;
+
+double difference(const State<double>& a, const State<double>& b) {
+  return (a.R - b.R).norm() + (a.Omega - b.Omega).norm();
+}
+
+State<double> values(const State<Jet1>& x) {
+  State<double> v;
+  for (int i = 0; i < 3; ++i) {
+    v.Omega(i) = x.Omega(i).a;
+    for (int j = 0; j < 3; ++j) v.R(i, j) = x.R(i, j).a;
+  }
+  return v;
+}
+
+template <class P>
+using JetOf = decltype(std::declval<const P&>().template cast<Jet1>());
+
+// The largest distance between the double run (principal axes) and the Jet run (body frame) over `steps` steps.
+template <template <class> class Method, class P>
+double principal_against_body_frame(const P& problem, const State<double>& x0, double h, int steps) {
+  Method<P> d(problem);
+  Method<JetOf<P>> j(problem.template cast<Jet1>());
+  EXPECT_FALSE(d.internal_is_body_frame());
+  EXPECT_TRUE(j.internal_is_body_frame());
+  auto y = d.to_internal(x0, 0.0);
+  auto yj = j.to_internal(x0.cast<Jet1>(), Jet1(0));
+  double worst = 0;
+  for (int n = 0; n < steps; ++n) {
+    EXPECT_EQ(d.step(y, n * h, h), StepStatus::ok);
+    EXPECT_EQ(j.step(yj, Jet1(n * h), Jet1(h)), StepStatus::ok);
+    worst = std::max(worst, difference(d.to_state(y), values(j.to_state(yj))));
+  }
+  return worst;
+}
+
+template <template <class> class Method, class P>
+void adaptive_principal_against_body_frame(const char* name, const P& problem, const State<double>& x0, double h) {
+  StepperOptions o;
+  o.rtol = o.atol = 1e-8;
+  Method<P> d(problem, o);
+  Method<JetOf<P>> j(problem.template cast<Jet1>(), o);
+  typename Method<P>::Dense dd;
+  typename Method<JetOf<P>>::Dense dj;
+  const auto y0 = d.to_internal(x0, 0.0);
+  const auto yj0 = j.to_internal(x0.cast<Jet1>(), Jet1(0));
+  auto y1 = y0;
+  auto yj1 = yj0;
+  double ed = 0, ej = 0;
+  ASSERT_EQ(d.attempt(y0, 0.0, h, y1, ed, dd), StepStatus::ok);
+  ASSERT_EQ(j.attempt(yj0, Jet1(0), Jet1(h), yj1, ej, dj), StepStatus::ok);
+  const double step_diff = difference(d.to_state(y1), values(j.to_state(yj1)));
+  const double dense_diff =
+      difference(d.to_state(d.dense_output(dd, 0.37)), values(j.to_state(j.dense_output(dj, Jet1(0.37)))));
+  std::printf("%-18s principal axes against the body frame, one step h = %g: state %.2e, error estimate %.6g "
+              "against %.6g, dense output at 0.37 %.2e\n", name, h, step_diff, ed, ej, dense_diff);
+  EXPECT_LT(step_diff, 1e-14) << name;
+  // The estimate's Ω part is scaled component-wise (atol + rtol|Ω_k|) in principal axes, not in the body frame:
+  // the same size, not the same number.
+  EXPECT_GT(ed, 0.5 * ej) << name;
+  EXPECT_LT(ed, 2.0 * ej) << name;
+  EXPECT_LT(dense_diff, 1e-14) << name;
+}
+
+// A heavy top whose torque was changed but whose lever was inherited: the lever no longer describes it.
+struct MislabelledTop : HeavyTop<double> {
+  Vec3<double> reduced_torque(const Vec3<double>& Gamma) const { return 2.0 * HeavyTop<double>::reduced_torque(Gamma); }
+};
+
+TEST(RkmkPrincipalAxes, StepsEqualTheBodyFrameStepsToRounding) {
+  const auto& top = skew_top();
+  const State<double> x0 = test::skew_initial_state();
+  const FreeBody<double> body{top.inertia};
+  const double e4 = principal_against_body_frame<Rkmk4>(top, x0, 0.01, 200);
+  const double e4b = principal_against_body_frame<Rkmk4>(body, x0, 0.01, 200);
+  const double e4c = principal_against_body_frame<Rkmk4Cayley>(top, x0, 0.01, 200);
+  const double e8 = principal_against_body_frame<RkmkDp8>(top, x0, 0.05, 200);
+  const double e9c = principal_against_body_frame<RkmkVern9Cayley>(top, x0, 0.05, 200);
+  std::printf("principal axes against the body frame, largest state difference over 200 steps: rkmk4 %.2e (free "
+              "body %.2e), rkmk4_cayley %.2e, rkmk_dp8 %.2e, rkmk_vern9_cayley %.2e\n", e4, e4b, e4c, e8, e9c);
+  for (const double e : {e4, e4b, e4c, e8, e9c}) EXPECT_LT(e, 1e-13);
+}
+
+TEST(RkmkPrincipalAxes, AdaptiveStepsAndDenseOutputAgree) {
+  const auto& top = skew_top();
+  const State<double> x0 = test::skew_initial_state();
+  adaptive_principal_against_body_frame<RkmkDp5>("rkmk_dp5", top, x0, 0.1);
+  adaptive_principal_against_body_frame<RkmkDp8Cayley>("rkmk_dp8_cayley", top, x0, 0.2);
+  adaptive_principal_against_body_frame<RkmkVern9>("rkmk_vern9", top, x0, 0.2);
+  adaptive_principal_against_body_frame<RkmkVern9Cayley>("rkmk_vern9_cayley", top, x0, 0.2);
+}
+
+TEST(RkmkPrincipalAxes, DiagonalInertiaKeepsTheBodyFrame) {
+  const FreeBody<double> body{Vec3<double>(2.0, 1.0, 2.0 / 3).asDiagonal()};
+  EXPECT_TRUE(Rkmk4<FreeBody<double>>(body).internal_is_body_frame());
+  EXPECT_TRUE(Rkmk4<HeavyTop<double>>(HeavyTop<double>::hairer_vilmart()).internal_is_body_frame());
+}
+
+TEST(RkmkPrincipalAxes, ALeverThatDisagreesWithTheTorqueIsRefused) {
+  const MislabelledTop bad{skew_top()};
+  try {
+    Rkmk4<MislabelledTop> s(bad);
+    ADD_FAILURE() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "lgi::Rkmk: the problem's reduced_torque_lever() does not match reduced_torque()");
+  }
 }
 
 }  // namespace
