@@ -159,18 +159,21 @@ constexpr C power_of_ten(int k) {
   return p;
 }
 
-// A decimal literal's text ("-0.0389…", "5.26…e-2") parsed in C's arithmetic: the first 38 significant
-// digits as two exact integers (≤ 19 digits each), m = head·10^n + tail (head·10^n is exact in binary128:
-// 64 + 45 bits), then m/10^k or m·10^k — two roundings in binary128, so within one unit in the last place
-// of the correctly rounded value (digits past the 38th are below 10⁻³⁷ relative and dropped). Measured
-// (tests/test_quad_order.cpp, DecimalParsersAgree): 866 of Verner 9(8)'s 952 entries correctly rounded, the
-// others one unit off.
-template <class C>
-constexpr C parse_decimal(const char* s) {
+// The digits of a decimal literal's text ("-0.0389…", "5.26…e-2"): its first 57 significant digits as three
+// exact integers of at most 19 digits, value = ±((chunk₀·10^length₁ + chunk₁)·10^length₂ + chunk₂)·10^exponent
+// (digits past the 57th are dropped, those before the point counted in the exponent). Shared by parse_decimal
+// and the multi-word coefficient of tests/quad_measure.hpp.
+struct DecimalDigits {
   bool negative = false;
-  if (*s == '-' || *s == '+') negative = *s++ == '-';
-  unsigned long long head = 0, tail = 0;
-  int head_digits = 0, tail_digits = 0, exponent = 0;  // value = (head·10^tail_digits + tail)·10^exponent
+  unsigned long long chunk[3] = {0, 0, 0};
+  int length[3] = {0, 0, 0};
+  int exponent = 0;
+};
+
+constexpr DecimalDigits scan_decimal(const char* s) {
+  DecimalDigits r;
+  if (*s == '-' || *s == '+') r.negative = *s++ == '-';
+  int k = 0;
   bool point = false, significant = false;
   for (; *s != '\0' && *s != 'e' && *s != 'E'; ++s) {
     if (*s == '.') {
@@ -180,18 +183,13 @@ constexpr C parse_decimal(const char* s) {
     const int d = *s - '0';
     significant = significant || d != 0;
     if (!significant) {  // a leading zero
-      if (point) --exponent;
-    } else if (head_digits < 19 || tail_digits < 19) {
-      if (head_digits < 19) {
-        head = head * 10 + static_cast<unsigned long long>(d);
-        ++head_digits;
-      } else {
-        tail = tail * 10 + static_cast<unsigned long long>(d);
-        ++tail_digits;
-      }
-      if (point) --exponent;
-    } else if (!point) {  // a digit past the 38th, before the point
-      ++exponent;
+      if (point) --r.exponent;
+    } else if (k < 3) {
+      r.chunk[k] = 10 * r.chunk[k] + static_cast<unsigned long long>(d);
+      if (++r.length[k] == 19) ++k;
+      if (point) --r.exponent;
+    } else if (!point) {  // a digit past the 57th, before the point
+      ++r.exponent;
     }
   }
   if (*s == 'e' || *s == 'E') {
@@ -200,12 +198,24 @@ constexpr C parse_decimal(const char* s) {
     if (*s == '-' || *s == '+') negative_exponent = *s++ == '-';
     int e = 0;
     for (; *s != '\0'; ++s) e = 10 * e + (*s - '0');
-    exponent += negative_exponent ? -e : e;
+    r.exponent += negative_exponent ? -e : e;
   }
-  C m = C(head);
-  if (tail_digits > 0) m = m * power_of_ten<C>(tail_digits) + C(tail);
+  return r;
+}
+
+// A decimal literal's text parsed in C's arithmetic: the first 38 significant digits as two exact integers
+// (≤ 19 digits each), m = head·10^n + tail (head·10^n is exact in binary128: 64 + 45 bits), then m/10^k or m·10^k
+// — two roundings in binary128, so within one unit in the last place of the correctly rounded value (digits
+// past the 38th are below 10⁻³⁷ relative and dropped). Measured (tests/test_quad_order.cpp, DecimalParsersAgree):
+// 866 of Verner 9(8)'s 952 entries correctly rounded, the others one unit off.
+template <class C>
+constexpr C parse_decimal(const char* s) {
+  const DecimalDigits d = scan_decimal(s);
+  const int exponent = d.exponent + d.length[2];  // the third chunk dropped
+  C m = C(d.chunk[0]);
+  if (d.length[1] > 0) m = m * power_of_ten<C>(d.length[1]) + C(d.chunk[1]);
   const C v = exponent < 0 ? m / power_of_ten<C>(-exponent) : m * power_of_ten<C>(exponent);
-  return negative ? -v : v;
+  return d.negative ? -v : v;
 }
 
 // A tableau coefficient written as the literal x in the source, `text` its spelling (LGI_RK below). For

@@ -83,42 +83,14 @@ struct DoubleQuad {
 
   // The decimal text, all its digits (up to 57 significant ones, in chunks of 19 that are exact integers).
   static constexpr DoubleQuad from_decimal(const char* s) {
-    bool negative = false;
-    if (*s == '-' || *s == '+') negative = *s++ == '-';
-    unsigned long long chunk[3] = {0, 0, 0};
-    int length[3] = {0, 0, 0}, k = 0, exponent = 0;
-    bool point = false, significant = false;
-    for (; *s != '\0' && *s != 'e' && *s != 'E'; ++s) {
-      if (*s == '.') {
-        point = true;
-        continue;
-      }
-      const int d = *s - '0';
-      significant = significant || d != 0;
-      if (!significant) {
-        if (point) --exponent;
-      } else if (k < 3) {
-        chunk[k] = 10 * chunk[k] + static_cast<unsigned long long>(d);
-        if (++length[k] == 19) ++k;
-        if (point) --exponent;
-      } else if (!point) {
-        ++exponent;
-      }
-    }
-    if (*s == 'e' || *s == 'E') {
-      ++s;
-      bool negative_exponent = false;
-      if (*s == '-' || *s == '+') negative_exponent = *s++ == '-';
-      int e = 0;
-      for (; *s != '\0'; ++s) e = 10 * e + (*s - '0');
-      exponent += negative_exponent ? -e : e;
-    }
+    const tableaus::detail::DecimalDigits d = tableaus::detail::scan_decimal(s);
+    const int exponent = d.exponent;
     if (exponent < -48 || exponent > 48) throw "DoubleQuad::from_decimal: exponent out of range";
-    DoubleQuad m{static_cast<__float128>(chunk[0]), 0};
+    DoubleQuad m{static_cast<__float128>(d.chunk[0]), 0};
     for (int i = 1; i < 3; ++i)
-      if (length[i] > 0) m = plus(times(m, power_of_ten(length[i])), static_cast<__float128>(chunk[i]));
+      if (d.length[i] > 0) m = plus(times(m, power_of_ten(d.length[i])), static_cast<__float128>(d.chunk[i]));
     m = exponent < 0 ? divided(m, power_of_ten(-exponent)) : times(m, power_of_ten(exponent));
-    return negative ? DoubleQuad{-m.hi, -m.lo} : m;
+    return d.negative ? DoubleQuad{-m.hi, -m.lo} : m;
   }
 
   friend constexpr bool operator==(const DoubleQuad& a, int b) { return a.hi == b && a.lo == 0; }
