@@ -209,7 +209,6 @@ Halt drive_adaptive(S& stepper, typename S::Internal& y, std::span<const double>
       c.rejected_last = true;
       continue;
     }
-    const double fac11 = std::pow(err, alpha);  // err^α
     if (err <= 1.0) {
       // accepted: outputs inside the step from its dense output, then the step's end
       const double t_new = last ? t_end : c.t + hT;
@@ -233,9 +232,7 @@ Halt drive_adaptive(S& stepper, typename S::Internal& y, std::span<const double>
         observed = true;
       }
       if (options.every > 0 && c.steps % options.every == 0 && !observed) observe(c.t, static_cast<const Internal*>(&y));
-      double fac = fac11 / std::pow(c.err_old, options.beta);
-      fac = std::clamp(fac / options.safety, 1.0 / options.fac_max, 1.0 / options.fac_min);
-      double h_new = std::min(c.h / fac, options.h_max);
+      double h_new = std::min(c.h / lgi::detail::pi_accepted_divisor(err, c.err_old, alpha, options), options.h_max);
       if (c.rejected_last) h_new = std::min(h_new, c.h);
       c.err_old = std::max(err, 1e-4);
       c.rejected_last = false;
@@ -244,7 +241,7 @@ Halt drive_adaptive(S& stepper, typename S::Internal& y, std::span<const double>
       if (last || static_cast<std::size_t>(c.next) >= count) return Halt::none;
     } else {
       ++c.rejected;
-      c.h /= std::min(1.0 / options.fac_min, fac11 / options.safety);
+      c.h /= lgi::detail::pi_rejected_divisor(err, alpha, options);
       c.rejected_last = true;
     }
   }
