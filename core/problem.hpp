@@ -69,11 +69,15 @@ concept ReducedAttitudeProblem =
     } &&
     !requires(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) { p.torque(t, R); };
 
+// A reduced-attitude problem with a torque Γ × v of constant lever v (the splittings and RKMK read it).
+template <class P>
+concept LeverTorqueProblem =
+    ReducedAttitudeProblem<P> && P::has_torque && requires(const P& p) { p.reduced_torque_lever(); };
+
 // A problem's reduced_torque_lever() must describe its reduced_torque(): Γ × v against reduced_torque(Γ) on
 // e1, e2, e3, to 1e-12 of |v| (a derived problem that changes reduced_torque but inherits the lever would
 // otherwise be integrated with the wrong torque). `who` names the integrator in the message.
-template <ReducedAttitudeProblem P>
-  requires requires(const P& p) { p.reduced_torque_lever(); }
+template <LeverTorqueProblem P>
 void check_reduced_torque_lever(const P& problem, std::string_view who) {
   using S = typename P::Scalar;
   using V = value_type_t<S>;

@@ -158,7 +158,7 @@ class Rkmk {
   }();
   static constexpr bool reduced = P::has_torque && ReducedAttitudeProblem<P>;
   // A reduced torque Γ × v with a constant lever v (core/problem.hpp).
-  static constexpr bool has_lever = reduced && requires(const P& p) { p.reduced_torque_lever(); };
+  static constexpr bool has_lever = LeverTorqueProblem<P>;
   // Runs with a non-diagonal J in principal axes (header): floating-point scalars, no torque or one with a lever.
   static constexpr bool principal_capable = std::is_floating_point_v<Scalar> && (!P::has_torque || has_lever);
   static constexpr bool lever_in_principal_axes = principal_capable && has_lever;

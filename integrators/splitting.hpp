@@ -234,7 +234,7 @@ class Splitting {
   // A reduced torque that is a cross product M = Γ × v with a constant v (core/problem.hpp): the torque is
   // then Γ_p × Qᵀv, one cross product with a vector rotated to principal axes once (measured 21
   // instructions a kick + DMV step fewer than through reduced_torque on the HV top, 65 with a non-diagonal J).
-  static constexpr bool has_lever = reduced && requires(const P& p) { p.reduced_torque_lever(); };
+  static constexpr bool has_lever = LeverTorqueProblem<P>;
 
   // Principal-axis torque at the attitude q.
   Vec3<Scalar> torque(const Scalar& t, const Quaternion<Scalar>& q) const {
