@@ -9,14 +9,18 @@
 //   lgi list [--markdown]            problems and methods, with each method's order and structure
 //
 // Exit status: 0 success; 1 bad command line, scene or checkpoint (one message naming the file, JSON path and
-// problem; nothing written); 2 the integration failed (a step did not converge, was not finite, or the
-// adaptive step size underflowed; the Euler-angle top left its domain) — the time, the step and the last good
-// state on stderr; 3 the output could not be written; 4 internal error; 5 (lgi fit) the solution is not usable
-// (the result is written, with "usable": false); 6 a budget stopped the run (scene "limits": max_steps,
-// max_wall_seconds); 128 + signal when interrupted by SIGINT or SIGTERM (checked every 1024 steps).
-// `lgi run` after 2, 6 or 128 + signal: -o FILE holds the rows written so far, its last row the last good state
-// (no row holds a NaN), renamed into place; with --checkpoint, 6 and 128 + signal also leave a checkpoint CK
-// that `lgi run --resume CK` continues to the very output an uninterrupted run writes (apps/runner_checkpoint.hpp).
+// problem; nothing written, no existing file touched); 2 the integration failed (a step did not converge, was not
+// finite, or the adaptive step size underflowed; the Euler-angle top left its domain) — the time, the step and the
+// last good state on stderr; 3 an output could not be written (a full disk, ...) or the system refused a resource;
+// 4 internal error; 5 (lgi fit) the solution is not usable (the result is written, with "usable": false); 6 a budget
+// stopped the run (scene "limits": max_steps, max_wall_seconds); 128 + signal when interrupted by SIGINT or SIGTERM
+// (seen within about 10 ms of work, or one step).
+// `lgi run` after 2, 3, 6 or 128 + signal: -o FILE holds the rows written so far (3: those that reached the disk
+// whole), renamed into place; after 2, 6 and 128 + signal its last row is the last good state (no row holds a NaN).
+// With --checkpoint, 6 and 128 + signal also leave a checkpoint CK, and 3 keeps the last one written, that
+// `lgi run --resume CK` continues to the very output an uninterrupted run writes (apps/runner_checkpoint.hpp).
+// Outputs that are not regular files (-o -, /dev/null, a FIFO) are streamed to and never replaced
+// (apps/output_file.hpp); --checkpoint never replaces or removes a file that is not this run's checkpoint.
 // lgi run is single-threaded: the same scene gives the same bytes on every run.
 #include "registry.hpp"
 #include "runner.hpp"
@@ -42,6 +46,8 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <new>
+#include <system_error>
 #include <string>
 #include <vector>
 
@@ -56,7 +62,7 @@ using lgi::app::fail;
 volatile std::sig_atomic_t g_signal = 0;
 extern "C" void on_signal(int signal) { g_signal = signal; }
 
-// SIGINT and SIGTERM stop the run at the next monitor call (every 1024 steps) instead of killing the
+// SIGINT and SIGTERM stop the run at the next monitor call (about every 10 ms of work) instead of killing the
 // process, so that the rows so far are kept (and a checkpoint written, with --checkpoint).
 void catch_interrupts() {
   struct sigaction action {};
@@ -86,15 +92,16 @@ bool parse_interval(const std::string& text, std::int64_t& steps, double& second
 }
 
 // The file holding a checkpoint's rows: its partial file (a SIGKILLed run's temporary file) or its target (a
-// run stopped by a signal or a budget renamed its rows into place), whichever has the bytes the checkpoint
-// counts with their hashes. Empty if neither.
+// run stopped by a signal, a budget or a failed write renamed its rows into place), whichever has the bytes the
+// checkpoint counts with their hashes. Empty if neither.
 std::string find_rows(const lgi::app::Checkpoint& ck) {
   for (const std::string& path : {ck.output.partial, ck.output.target}) {
-    const int fd = open(path.c_str(), O_RDONLY);
-    if (fd < 0) continue;
     struct stat st {};
+    if (stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;  // (opening a FIFO would block)
+    const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) continue;
     std::uint64_t head = 0, tail = 0;
-    const bool ok = fstat(fd, &st) == 0 && static_cast<std::uint64_t>(st.st_size) >= ck.output.bytes &&
+    const bool ok = fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && static_cast<std::uint64_t>(st.st_size) >= ck.output.bytes &&
                     lgi::app::output_hashes(fd, ck.output.bytes, head, tail) && head == ck.output.head_hash &&
                     tail == ck.output.tail_hash;
     close(fd);
@@ -103,38 +110,83 @@ std::string find_rows(const lgi::app::Checkpoint& ck) {
   return {};
 }
 
-// Copies the first `bytes` bytes of `from` to `to`.
-bool copy_prefix(const std::string& from, std::uint64_t bytes, std::FILE* to) {
+// Copies the first `bytes` bytes of `from` to `to`, as whole records (the rows end in '\n').
+bool copy_prefix(const std::string& from, std::uint64_t bytes, lgi::app::OutputFile& to) {
   std::FILE* in = std::fopen(from.c_str(), "rb");
   if (!in) return false;
   std::vector<char> buffer(1 << 20);
+  std::string pending;  // the part of a row that reached the end of a buffer
   while (bytes > 0) {
     const std::size_t n = std::fread(buffer.data(), 1, std::min<std::uint64_t>(bytes, buffer.size()), in);
-    if (n == 0 || std::fwrite(buffer.data(), 1, n, to) != n) break;
+    if (n == 0) break;
     bytes -= n;
+    pending.append(buffer.data(), n);
+    const std::size_t end = pending.rfind('\n') + 1;  // 0 when there is no line end
+    if (end > 0 && !to.write_record(std::string_view(pending.data(), end))) break;
+    pending.erase(0, end);
   }
   std::fclose(in);
-  return bytes == 0;
+  return bytes == 0 && pending.empty() && !to.failed();
 }
 
-// A run's temporary output file (AtomicOutput: ".NAME.tmp-XXXXXX").
+// A run's temporary output file (OutputFile: ".NAME.tmp-XXXXXX").
 bool is_temporary(const std::string& path) {
   const std::string name = std::filesystem::path(path).filename().string();
   return name.size() > 1 && name[0] == '.' && name.find(".tmp-") != std::string::npos;
 }
 
 // Removes what a SIGKILLed earlier run of this checkpoint may have left: a checkpoint is written atomically
-// through ".NAME.tmp-XXXXXX" beside it (runner.cpp), and a kill between its creation and the rename leaves that
-// file. Called when the run the checkpoint belongs to is complete.
+// through ".NAME.tmp-XXXXXX" beside it (checkpoint.cpp), and a kill between its creation and the rename leaves that
+// file. Only files whose bytes are those a checkpoint begins with are removed. Called when the run the checkpoint
+// belongs to is complete.
 void remove_stale_temporaries(const std::string& checkpoint) {
   namespace fs = std::filesystem;
   const fs::path p(checkpoint);
-  const std::string prefix = "." + p.filename().string() + ".tmp-";
+  const std::string prefix = fs::path(lgi::app::temporary_prefix(checkpoint)).filename().string();  // ".NAME.tmp-"
   std::error_code ec;
   const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.size() == prefix.size() + 6 && name.compare(0, prefix.size(), prefix) == 0) fs::remove(it->path(), ec);
+    if (name.size() == prefix.size() + 6 && name.compare(0, prefix.size(), prefix) == 0 &&
+        lgi::app::is_checkpoint_temporary(it->path().string()))
+      fs::remove(it->path(), ec);
+  }
+}
+
+// The time of the last row of a CSV file (its first column), or "" when it has none.
+std::string last_row_time(const lgi::app::OutputFile& out) {
+  const std::uint64_t size = out.bytes_in_file();
+  if (out.streamed() || size == 0) return {};
+  const std::uint64_t span = std::min<std::uint64_t>(size, 4096);
+  std::string tail(span, '\0');
+  if (pread(out.fd(), tail.data(), span, static_cast<off_t>(size - span)) != static_cast<ssize_t>(span)) return {};
+  tail.pop_back();  // the final '\n'
+  const std::size_t start = tail.rfind('\n') + 1;
+  const std::string t = tail.substr(start, tail.find(',', start) - start);
+  if (t == "t") return {};  // the header: no rows
+  char* end = nullptr;
+  const double x = std::strtod(t.c_str(), &end);
+  return end == t.c_str() + t.size() ? lgi::app::format_number(x) : t;
+}
+
+// Why --checkpoint CK cannot be used, or "" (a new file, or the checkpoint this run resumes from).
+std::string checkpoint_path_problem(const std::string& checkpoint, const std::string& output, const std::string& resume) {
+  if (lgi::app::is_streamed_path(checkpoint))
+    return "--checkpoint " + checkpoint + ": not a regular file (a checkpoint is written beside it and renamed into place)";
+  struct stat st {};
+  const bool exists = stat(checkpoint.c_str(), &st) == 0;
+  if (exists && S_ISDIR(st.st_mode)) return "--checkpoint " + checkpoint + ": a directory";
+  if (checkpoint == output || lgi::app::same_file(checkpoint, output))
+    return "--checkpoint " + checkpoint + " and -o name the same file";
+  if (!exists || (!resume.empty() && lgi::app::same_file(checkpoint, resume))) return {};
+  try {
+    const lgi::app::Checkpoint other = lgi::app::read_checkpoint(checkpoint);
+    return "--checkpoint " + checkpoint + ": holds the checkpoint of a stopped run of " + other.scene_file +
+           " (t = " + lgi::app::format_number(other.t) + "): continue it with lgi run --resume " + checkpoint +
+           ", or remove it to start afresh";
+  } catch (const lgi::app::InputError&) {
+    return "--checkpoint " + checkpoint + ": the file exists and is not a checkpoint of lgi run; lgi does not replace "
+           "it (give another name)";
   }
 }
 
@@ -153,8 +205,9 @@ int run_command(const RunCommandOptions& cmd) {
                                 "got \"" + cmd.checkpoint_every + "\"");
   if (!resuming && cmd.checkpoint.empty() && !cmd.checkpoint_every.empty())
     return fail(exit_bad_input, "--checkpoint-every needs --checkpoint CHECKPOINT");
-  if (!resuming && !cmd.checkpoint.empty() && cmd.output.empty())
-    return fail(exit_bad_input, "--checkpoint needs -o FILE: a checkpoint continues the rows of an output file");
+  if (!resuming && !cmd.checkpoint.empty() && (cmd.output.empty() || lgi::app::is_streamed_path(cmd.output)))
+    return fail(exit_bad_input, "--checkpoint needs -o FILE, a regular file: a checkpoint continues the rows of an output "
+                                "file");
   try {
     if (resuming) {
       resume = lgi::app::read_checkpoint(cmd.resume);
@@ -172,6 +225,17 @@ int run_command(const RunCommandOptions& cmd) {
   }
   const std::string output = resuming && cmd.output.empty() ? resume.output.target : cmd.output;
   const std::string checkpoint = resuming && cmd.checkpoint.empty() ? cmd.resume : cmd.checkpoint;
+  if (resuming && lgi::app::is_streamed_path(output))
+    return fail(exit_bad_input, "--resume: -o " + output + " is not a regular file: a resumed run continues the rows of "
+                                "an output file");
+  if (!checkpoint.empty()) {
+    if (const std::string problem = checkpoint_path_problem(checkpoint, output, cmd.resume); !problem.empty())
+      return fail(exit_bad_input, problem);
+  }
+  const std::string& input = resuming ? cmd.resume : cmd.scene_file;
+  if (!output.empty() && !lgi::app::is_streamed_path(output) && lgi::app::same_file(output, input))
+    return fail(exit_bad_input, "-o " + output + " is the " + (resuming ? "checkpoint" : "scene file") +
+                                    " itself: lgi does not replace its input");
   if (resuming && cmd.checkpoint_every.empty()) {
     every_steps = resume.every_steps;
     every_seconds = resume.every_seconds;
@@ -183,17 +247,15 @@ int run_command(const RunCommandOptions& cmd) {
                                     resume.output.target + " (missing, shorter than " +
                                     std::to_string(resume.output.bytes) + " bytes, or changed)");
 
-  std::unique_ptr<lgi::app::AtomicOutput> out;
-  if (!output.empty()) {
-    try {
-      out = std::make_unique<lgi::app::AtomicOutput>(output);
-    } catch (const std::exception& e) {
-      return fail(exit_io_error, e.what());
-    }
+  std::unique_ptr<lgi::app::OutputFile> out;
+  try {
+    out = std::make_unique<lgi::app::OutputFile>(output.empty() ? std::string("-") : output);
+  } catch (const lgi::app::OutputError& e) {
+    return fail(exit_io_error, e.what());
   }
   catch_interrupts();
   lgi::app::RunOptions options;
-  options.csv = out ? out->file() : stdout;
+  options.csv = out.get();
   options.progress = !cmd.quiet && isatty(STDERR_FILENO);
   options.stop = &g_signal;
   options.checkpoint_path = checkpoint;
@@ -201,43 +263,88 @@ int run_command(const RunCommandOptions& cmd) {
   options.checkpoint_every_seconds = every_seconds;
   options.scene_document = document;
   options.version = LGI_VERSION;
-  if (out) options.output = {output, out->temp_path()};
+  options.output = {output, out->temp_path()};
+  std::string checkpoint_checksum;  // the last checkpoint this invocation wrote
+  bool resume_refused = false;      // the resumed checkpoint could not be moved to the new rows: nothing changed
   if (resuming) {
     // The rows so far into the new temporary file, on disk, and a checkpoint that points at it before the old
     // temporary file goes: a SIGKILL at any moment leaves a checkpoint whose rows exist.
-    if (!copy_prefix(rows, resume.output.bytes, out->file()) || std::fflush(out->file()) != 0 ||
-        fsync(fileno(out->file())) != 0)
-      return fail(exit_io_error, output + ": cannot copy the rows so far from " + rows + ": " + std::strerror(errno));
-    lgi::app::Checkpoint moved = resume;
-    moved.output.target = output;
-    moved.output.partial = out->temp_path();
-    moved.every_steps = every_steps;
-    moved.every_seconds = every_seconds;
-    std::string error;
-    if (lgi::app::write_checkpoint(checkpoint, moved, LGI_VERSION, error)) {
+    if (!copy_prefix(rows, resume.output.bytes, *out) || !out->sync())
+      return fail(exit_io_error, output + ": cannot copy the rows so far from " + rows + ": " +
+                                     (out->failed() ? out->error_text() : std::string(std::strerror(errno))) +
+                                     " (nothing changed: " + cmd.resume + " still resumes the run)");
+    // Once the runner has checked the checkpoint against the scene and the stepper: the checkpoint moves to the new
+    // rows, and only then the old temporary file goes. A checkpoint refused by those checks changes nothing.
+    options.resume_accepted = [&](std::string& error) {
+      lgi::app::Checkpoint moved = resume;
+      moved.output.target = output;
+      moved.output.partial = out->temp_path();
+      moved.every_steps = every_steps;
+      moved.every_seconds = every_seconds;
+      if (!lgi::app::write_checkpoint(checkpoint, moved, LGI_VERSION, error, &checkpoint_checksum)) {
+        resume_refused = true;
+        return false;
+      }
+      out->keep_temporary();  // the moved checkpoint names it
       if (rows != output && is_temporary(rows)) std::remove(rows.c_str());
-    } else {
-      std::fprintf(stderr, "lgi: warning: %s: cannot write the checkpoint (the run goes on): %s\n", checkpoint.c_str(),
-                   error.c_str());
-    }
+      return true;
+    };
     options.resume = &resume;
+    options.resume_path = cmd.resume;
   }
   lgi::app::RunReport report;
   try {
     report = lgi::app::run_scene(scene, options);
-  } catch (const lgi::app::InputError& e) {  // a checkpoint that does not fit the stepper
-    return fail(exit_bad_input, e.what());
+  } catch (const lgi::app::InputError& e) {  // a checkpoint that does not fit the stepper or the scene
+    return fail(exit_bad_input, e.what());   // (nothing changed: it was refused before the resume moved anything)
   }
-  const std::string& name = resuming ? cmd.resume : cmd.scene_file;
-  if (report.write_failed) return fail(exit_io_error, (output.empty() ? "stdout" : output) + ": write error");
-  if (out && !out->commit()) return fail(exit_io_error, output + ": cannot write the output file: " + std::strerror(errno));
-  if (!out && std::fflush(stdout) != 0) return fail(exit_io_error, "stdout: write error");
+  if (resume_refused)
+    return fail(exit_io_error, checkpoint + ": cannot write the checkpoint: " + report.checkpoint_error +
+                                   " (nothing changed: " + cmd.resume + " still resumes the run)");
+  out->flush();  // the last rows: a failure here is a failed write like any other
+  if (!report.checkpoint_checksum.empty()) checkpoint_checksum = report.checkpoint_checksum;
+  const std::string& name = input;
+  const lgi::IntegrationSummary& s = report.summary;
+  const std::string where = out->display_name();
+
+  // A failed write: the rows that reached the file whole are kept under the output's name, and the last checkpoint
+  // (which counts only rows that reached the file) continues the run once the cause is fixed.
+  if (report.write_failed || out->failed()) {
+    const std::string cause = out->failed() ? out->error_text() : report.checkpoint_error;
+    const bool whole = out->truncate_to_last_record();
+    const std::string last_t = last_row_time(*out);
+    const bool kept = whole && out->commit();
+    if (!kept) out->keep_temporary();  // the message names it
+    std::string message = where + ": write error (" + cause + ") at t = " + format_number(s.t) + "; ";
+    if (out->streamed()) message += "the rows before it were written";
+    else if (kept) message += where + " holds " + (last_t.empty() ? "no rows" : "the rows to t = " + last_t) + " (whole rows only)";
+    else message += "the rows so far are in " + out->temp_path() + (whole ? "" : " (its last row may be cut)");
+    if (!checkpoint_checksum.empty())
+      message += "; checkpoint " + checkpoint + " continues the run once the cause is fixed (lgi run --resume " +
+                 checkpoint + ")";
+    return fail(exit_io_error, message);
+  }
+  if (report.stop_reason == lgi::app::StopReason::write_failed) {  // the rows are whole, a checkpoint failed
+    const bool kept = out->commit();
+    if (!kept) out->keep_temporary();  // the message names it
+    std::string message = checkpoint + ": cannot write the checkpoint (" + report.checkpoint_error +
+                          "): the run stopped at t = " + format_number(s.t) + "; " +
+                          (kept ? where + " holds the rows to there" : "the rows are in " + out->temp_path());
+    if (!checkpoint_checksum.empty())
+      message += "; the previous checkpoint in " + checkpoint + " continues the run (lgi run --resume " + checkpoint + ")";
+    return fail(exit_io_error, message);
+  }
+  if (!out->commit()) {
+    if (out->streamed()) return fail(exit_io_error, where + ": cannot write the output: " + out->error_text());
+    out->keep_temporary();  // the message names it
+    return fail(exit_io_error, where + ": cannot write the output: " + out->error_text() + "; the rows are in " +
+                                   out->temp_path());
+  }
   if (!cmd.quiet) std::fputs(lgi::app::brief_report(scene, report).c_str(), stderr);
 
-  const lgi::IntegrationSummary& s = report.summary;
   if (s.status == lgi::RunStatus::completed) {
-    if (!checkpoint.empty()) {  // the run is complete: nothing to resume
-      std::remove(checkpoint.c_str());
+    if (!checkpoint.empty()) {  // the run is complete: nothing to resume; remove only what this run wrote
+      if (lgi::app::is_own_checkpoint(checkpoint, checkpoint_checksum)) std::remove(checkpoint.c_str());
       remove_stale_temporaries(checkpoint);
     }
     if (report.rows_not_finite > 0)
@@ -267,6 +374,8 @@ int run_command(const RunCommandOptions& cmd) {
     case lgi::app::StopReason::left_domain:
       message = "stopped at " + at + ": the Euler angles left their domain (see the warning)";
       break;
+    case lgi::app::StopReason::write_failed:  // handled above
+      break;
     case lgi::app::StopReason::signal:
       status = 128 + g_signal;
       message = std::string("interrupted by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM") + " at " + at;
@@ -282,12 +391,12 @@ int run_command(const RunCommandOptions& cmd) {
       message = "stopped by /limits/max_wall_seconds = " + format_number(scene.max_wall_seconds) + " at " + at;
       break;
   }
-  const std::string where = out ? output + " holds" : "stdout got";
+  const std::string holds = out->streamed() ? where + " got" : where + " holds";
   if (report.has_rows)
-    message += "; " + where + " the rows to t = " + format_number(s.t) +
+    message += "; " + holds + " the rows to t = " + format_number(s.t) +
                (report.final_row ? ", the last one the last good state" : "") + " (incomplete)";
   else
-    message += "; " + where + " no rows (the header only)";
+    message += "; " + holds + " no rows (the header only)";
   const lgi::State<double>& x = report.final_state;
   char state[160];
   std::snprintf(state, sizeof state, "; last good state: omega = (%.17g, %.17g, %.17g)", x.Omega(0), x.Omega(1),
@@ -400,9 +509,24 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : exit_bad_input;
+    // One line, as every other error: what is wrong, and where help is.
+    const std::string commands = "run, fit, sweep, merge, list";
+    if (argc < 2) return fail(exit_bad_input, "give a command: " + commands + " (lgi --help)");
+    const std::string first = argv[1];
+    bool known = false;
+    for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == first;
+    if (!known && !first.empty() && first[0] != '-')
+      return fail(exit_bad_input, "unknown command \"" + first + "\" (commands: " + commands + "; lgi --help)");
+    std::string where = "lgi";
+    for (const auto* sub : app.get_subcommands()) where += " " + sub->get_name();
+    return fail(exit_bad_input, where + ": " + e.what() + " (" + where + " --help)");
   }
   try {
     if (run->parsed()) return run_command(run_options);
@@ -415,6 +539,10 @@ int main(int argc, char** argv) {
     }
     if (merge->parsed()) return lgi::app::merge_command(merge_options);
     if (list->parsed()) return list_command(markdown);
+  } catch (const std::bad_alloc&) {
+    return fail(exit_io_error, "out of memory (the system refused an allocation); nothing was written");
+  } catch (const std::system_error& e) {  // a resource the system refused (threads, ...)
+    return fail(exit_io_error, std::string("the system refused a resource: ") + e.what());
   } catch (const std::exception& e) {
     return fail(exit_internal_error, std::string("internal error: ") + e.what());
   }

@@ -22,6 +22,7 @@
 // observer pays nothing for this: its drivers see only its own output events.
 #pragma once
 
+#include "output_file.hpp"
 #include "runner_checkpoint.hpp"
 #include "scene.hpp"
 
@@ -30,6 +31,7 @@
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -67,14 +69,15 @@ class RunObserver {
 };
 
 struct RunOptions {
-  std::FILE* csv = nullptr;                         // rows go here; nullptr: no rows
+  OutputFile* csv = nullptr;                        // rows go here, one record each; nullptr: no rows
   bool progress = false;                            // a progress line on stderr (for terminals)
   const volatile std::sig_atomic_t* stop = nullptr;  // the run stops when *stop becomes non-zero
-  // Long runs flush the rows at least this often (wall seconds; checked with the monitor, every 1024 steps).
+  // Long runs flush the rows at least this often (wall seconds; checked with the monitor).
   double flush_seconds = 1.0;
   // Checkpoints (runner_checkpoint.hpp), when checkpoint_path is not empty: every checkpoint_every_steps steps
-  // or checkpoint_every_seconds of wall time (checked every 1024 steps; adaptive runs: 1024 attempted steps),
-  // and where a signal or a budget stops the run. csv must then be the file output.partial names.
+  // or checkpoint_every_seconds of wall time (checked with the monitor), and where a signal or a budget stops the
+  // run. csv must then be the atomic output whose temporary file output.partial names. A checkpoint that cannot
+  // be written stops the run (StopReason::write_failed; the previous checkpoint and the rows it counts stay).
   std::string checkpoint_path;
   std::int64_t checkpoint_every_steps = 0;
   double checkpoint_every_seconds = 0;
@@ -82,6 +85,12 @@ struct RunOptions {
   json scene_document;         // the scene as loaded, recorded in checkpoints
   std::string version;         // lgi's, recorded in checkpoints
   const Checkpoint* resume = nullptr;  // continue this run (csv already holds its rows)
+  std::string resume_path;             // the file `resume` was read from (for messages)
+  // Called once the checkpoint `resume` was checked against the scene and the stepper, before the first step: what
+  // a resume changes on disk (the checkpoint moved to the new rows file, the old one removed) happens here, so that
+  // a checkpoint refused by those checks changes nothing. false (with the reason): the run does not start
+  // (StopReason::write_failed).
+  std::function<bool(std::string& error)> resume_accepted;
   RunObserver* observer = nullptr;     // in-run observation (see the header); csv, checkpoints, resume: none
 };
 
@@ -92,6 +101,7 @@ enum class StopReason : std::uint8_t {
   max_steps,         // the scene's limits.max_steps (adaptive runs without it: 1e9 attempted steps)
   max_wall_seconds,  // the scene's limits.max_wall_seconds
   left_domain,       // the Euler-angle top: sin θ fell below min_sin_theta
+  write_failed,      // a row or a checkpoint could not be written (a full disk, ...): nothing more is written
 };
 
 struct InvariantChange {
@@ -119,6 +129,10 @@ struct RunReport {
   std::string checkpoint_written;       // the checkpoint written where the run stopped (empty: none)
   std::string checkpoint_error;         // why a checkpoint could not be written (empty: none failed)
   std::int64_t checkpoints = 0;         // checkpoints written by this invocation
+  std::string checkpoint_checksum;      // the checksum of the last checkpoint this invocation wrote (empty: none)
+  // The columns of the run's last row (those of csv_header), whether or not rows were written: what a sweep
+  // records as the member's "final" group, character for character the row `lgi run` writes.
+  std::vector<double> final_columns;
 };
 
 RunReport run_scene(const Scene& scene, const RunOptions& options);
@@ -128,5 +142,13 @@ std::string brief_report(const Scene& scene, const RunReport& report);
 
 // The CSV header row for a scene's problem (without the newline).
 std::string csv_header(const Scene& scene);
+
+// The names of the problem's integrals of the motion among its CSV columns (RunReport::invariants): all of its
+// invariants, but for the Euler-angle top, whose last columns are coordinates (sin_theta, phi, theta, psi).
+std::vector<std::string> integral_names(const Scene& scene);
+
+// The columns of a row (csv_header) for state x at time t, as `lgi run` computes them from a state on SO(3) (not
+// for the Euler-angle top, whose columns come from its angles: std::logic_error).
+std::vector<double> state_columns(const Scene& scene, double t, const State<double>& x);
 
 }  // namespace lgi::app

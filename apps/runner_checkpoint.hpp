@@ -3,8 +3,9 @@
 // A run's future depends on (1) the scene, (2) where the driver is, (3) the stepper's internal state, and
 // nothing else: steppers keep no state between steps but counters (core/integrator.hpp; checked for every
 // method of apps/registry.hpp — no Newton warm start, no FSAL stage reused, no step-size memory; the
-// adaptive steps' memory is the driver's, below). A checkpoint is a JSON file holding
-//   - "scene": the scene's JSON document as loaded (every number round-trips), its FNV-1a hash, its file name;
+// adaptive steps' memory is the driver's, below). A checkpoint (format 2) is a JSON file holding, in this order,
+//   - "lgi_checkpoint": 2, lgi's version, the scene file's name, the method, "t" and "state" (R, Ω) in decimal
+//     for people (not read back);
 //   - "cursor": fixed steps — the grid index n (t = n·dt), the index of the next output event, the steps taken;
 //     adaptive steps (integrators/adaptive.hpp's loop variables) — t, the step h the controller proposes,
 //     err_{n−1} (the PI controller's memory), whether the last trial was rejected, what drove h down, the
@@ -15,8 +16,10 @@
 //   - "output": the target file name, the file holding the rows so far (the temporary file while the run goes,
 //     the target once a stopped run renamed it), how many of its bytes belong to the run at this point, and
 //     FNV-1a hashes of their first and last 4 KiB (a resume refuses a file that does not match);
-//   - the time of the last row written, the checkpoint interval, lgi's version; "t" and "state" (R, Ω) in
-//     decimal for people (not read back).
+//   - the time of the last row written, the checkpoint interval, the scene's JSON document as loaded;
+//   - "checksum": FNV-1a 64 (hashing.hpp) of the whole document in canonical form without this member. A file
+//     changed or damaged anywhere (a flipped byte, a cut, an edited value) is refused with one line before any of
+//     it is used; semantic checks (cursor against the scene, the stepper's size) follow when the run resumes.
 // Written atomically (a temporary file beside it, fsync, rename, fsync of the directory), after the rows
 // it counts were flushed and fsynced: a SIGKILL at any moment leaves the previous or the new checkpoint, and
 // the rows it counts.
@@ -78,18 +81,28 @@ struct Checkpoint {
   std::vector<double> R, omega;  // informational
 };
 
-// 64-bit FNV-1a (Fowler–Noll–Vo; offset basis 14695981039346656037, prime 1099511628211).
-std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t hash = 14695981039346656037ull);
+// The word a checkpoint, a sweep's status column and the summaries use for a step status ("not_converged", ...).
+std::string step_status_token(StepStatus s);
 
 // The hashes of the first `bytes` bytes of the open file `fd` (CheckpointOutput::head_hash and tail_hash);
 // false if they cannot be read.
 bool output_hashes(int fd, std::uint64_t bytes, std::uint64_t& head, std::uint64_t& tail);
 
-// Writes `checkpoint` to `path` atomically; false with `error` set on failure (the previous file is kept).
+// Writes `checkpoint` to `path` atomically; false with `error` set on failure (the previous file is kept). On
+// success `*checksum` (when given) receives the file's checksum: what is_own_checkpoint recognises it by.
 bool write_checkpoint(const std::string& path, const Checkpoint& checkpoint, const std::string& version,
-                      std::string& error);
-// Reads a checkpoint; a malformed one is an InputError naming the file and the JSON path.
+                      std::string& error, std::string* checksum = nullptr);
+// Reads a checkpoint; one that is malformed, of another format, or changed anywhere (its checksum) is an
+// InputError naming the file and the JSON path.
 Checkpoint read_checkpoint(const std::string& path);
+// The same for a checkpoint's bytes; `path` names it in messages.
+Checkpoint parse_checkpoint(const std::string& text, const std::string& path);
+// True if `path` is a regular file holding exactly the checkpoint whose checksum is `checksum` (one this process
+// wrote and nobody changed since): the only checkpoint file lgi removes.
+bool is_own_checkpoint(const std::string& path, const std::string& checksum);
+// True if `path` is a regular file whose bytes begin as every checkpoint file does (or are a prefix of that:
+// empty or cut short) — a temporary file of write_checkpoint that a kill left behind.
+bool is_checkpoint_temporary(const std::string& path);
 
 // ---- the stepper's internal state as numbers --------------------------------------------------------------
 // for_each_number(y, f) calls f(double&) on every number of an Internal (core/state.hpp, the steppers of

@@ -32,11 +32,12 @@ namespace runner_detail {
 
 using Clock = std::chrono::steady_clock;
 
-// Formats one CSV row into a fixed buffer: no allocation per row. A row with a column that is not finite is
-// not written (counted, with the time of the first): no NaN or infinity reaches the output.
+// Formats one CSV row into a fixed buffer and hands it to the output as one record: no allocation per row. A row
+// with a column that is not finite is not written (counted, with the time of the first): no NaN or infinity
+// reaches the output. After the output's first failed write no row is written (failed()).
 class RowWriter {
  public:
-  explicit RowWriter(std::FILE* out) : out_(out) {}
+  explicit RowWriter(OutputFile* out) : out_(out) {}
   void add(double x) {
     if (n_ == 0) row_t_ = x;  // the first column is t
     else buf_[n_++] = ',';
@@ -49,7 +50,7 @@ class RowWriter {
     buf_[n_++] = '\n';
     if (!finite_) {
       if (not_finite_++ == 0) first_not_finite_t_ = row_t_;
-    } else if (std::fwrite(buf_.data(), 1, n_, out_) != n_) {
+    } else if (!out_->write_record(std::string_view(buf_.data(), n_))) {
       failed_ = true;
     } else {
       has_row_ = true;
@@ -70,7 +71,7 @@ class RowWriter {
   double first_not_finite_t() const { return first_not_finite_t_; }
 
  private:
-  std::FILE* out_;
+  OutputFile* out_;
   std::array<char, 2048> buf_{};
   std::size_t n_ = 0;
   bool failed_ = false;
@@ -79,6 +80,14 @@ class RowWriter {
   double row_t_ = 0, last_t_ = 0, first_not_finite_t_ = 0;
   std::int64_t not_finite_ = 0;
 };
+
+// How many of P's invariants (the first ones) are integrals of the motion: P::integral_count where the problem
+// declares it (the Euler-angle top: its last invariants are coordinates), else all of them.
+template <class P>
+constexpr std::size_t integral_count() {
+  if constexpr (requires { P::integral_count; }) return P::integral_count;
+  else return P::invariant_names.size();
+}
 
 template <class P>
 std::string header_for() {
@@ -90,17 +99,26 @@ std::string header_for() {
   return h;
 }
 
-// The monitor of one invocation (called every 1024 steps; adaptive runs: 1024 attempted steps): stops the run
-// on a signal or when the wall-clock budget is spent, shows progress on stderr at most four times a second once
-// a run has taken more than a second, flushes the rows every RunOptions::flush_seconds, and says when a
-// checkpoint is due. One clock read per call: nothing per step.
+// The monitor of one invocation: stops the run on a signal, when the wall-clock budget is spent, or after the
+// output's first failed write; shows progress on stderr at most four times a second once a run has taken more
+// than a second; flushes the rows every RunOptions::flush_seconds; and says when a checkpoint is due. The drivers
+// call it after 1 step, then after the number of steps (adaptive runs: attempted steps) check() returns: doubled
+// while the calls come faster than every `target_interval` and cut in proportion when they come slower, between 1
+// and max_stride. So it runs about every 10 ms of work whatever a step costs (a step of a million DMV substeps,
+// 0.2 s: every step) — the budget and signals are seen within max(10 ms, one step) — and at most once every
+// max_stride steps: one clock read per call, nothing per step.
 class SessionMonitor {
  public:
   enum class Action { proceed, stop, checkpoint };
+  static constexpr std::int64_t max_stride = 1024;
+  static constexpr double target_interval = 0.01;  // seconds
   // total: the steps the run takes (0: no progress line); steps: those taken before this invocation.
   SessionMonitor(const RunOptions& options, const Scene& scene, std::int64_t total, std::int64_t steps);
   Action check(std::int64_t steps);
+  // The steps (attempted steps) until the next call, as set by the last check().
+  std::int64_t stride() const { return stride_; }
   void checkpointed(std::int64_t steps);  // a checkpoint was written: the interval starts again
+  void stop(StopReason reason) { reason_ = reason; }  // a checkpoint could not be written
   void finish() const;                    // clears the progress line
   StopReason reason() const { return reason_; }
 
@@ -108,14 +126,17 @@ class SessionMonitor {
   const RunOptions& options_;
   double max_wall_seconds_;
   std::int64_t total_;
-  Clock::time_point start_ = Clock::now(), last_progress_ = start_, last_flush_ = start_, last_checkpoint_ = start_;
+  Clock::time_point start_ = Clock::now(), last_progress_ = start_, last_flush_ = start_, last_checkpoint_ = start_,
+                    last_check_ = start_;
   std::int64_t checkpoint_steps_;
+  std::int64_t stride_ = 1;
   bool printed_ = false;
   StopReason reason_ = StopReason::none;
 };
 
-// Writes a run's checkpoints (runner_checkpoint.hpp) with what the runner knows at the time; a failure is a
-// warning on stderr (once) and RunReport::checkpoint_error, and the run goes on.
+// Writes a run's checkpoints (runner_checkpoint.hpp) with what the runner knows at the time: the rows first (on
+// disk), then the checkpoint that counts them. false on failure, with RunReport::checkpoint_error set; the
+// previous checkpoint stays.
 class Checkpointer {
  public:
   Checkpointer(const RunOptions& options, const Scene& scene) : options_(options), scene_(scene) {}

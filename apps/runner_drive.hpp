@@ -6,13 +6,14 @@
 // grid points reached by a side-step from a copy, the last one on the trajectory itself; adaptive steps with
 // the PI controller, rejection, dense output and the landing rule of integrate_adaptive. tests/test_checkpoint.cpp
 // compares `lgi run`'s rows with the library drivers' states bit for bit. Differences, all at the edges:
-//   - the monitor is called with the cursor and the state (to checkpoint), at the same points (every 1024 grid
-//     steps; adaptive: every 1024 attempted steps);
+//   - the monitor is called with the cursor and the state (to checkpoint) after the number of steps (adaptive:
+//     attempted steps) its previous call returned — the first time after one step; it returns 0 to stop the run
+//     (runner_detail.hpp, SessionMonitor: about every 10 ms of work, at most every 1024 steps);
 //   - a step budget (absolute limits on Cursor::steps, fixed steps, or Cursor::attempts, adaptive) ends the run
 //     exactly where it is reached, at no cost per step (the grid loop's bound is lowered to it);
 //   - observe(t, y) takes the stepper's Internal (nullptr: the initial state, before any grid step — the
 //     library's "no J⁻¹(Jx) round trip").
-// The step loop does what the library's does: step, count, and every 1024 steps call the monitor.
+// The step loop does what the library's does: step, count, and now and then call the monitor.
 #pragma once
 
 #include "runner_checkpoint.hpp"
@@ -42,6 +43,15 @@ class GridEvents {
   GridEvents(std::int64_t every, double t_end, double h)
       : h_(h), every_(every), t_end_(t_end), end_(lgi::detail::locate(0.0, h, t_end)) {}
 
+  // True if a run can be at grid index n with `event` its next output event: the events before it are at or
+  // before n, and it is not (a resumed run's cursor; every event's grid index is where drive_grid reaches it).
+  bool accepts(std::int64_t n, std::int64_t event) const {
+    lgi::detail::OutputEvent<double> e;
+    if (event < 0 || n < 0) return false;
+    if (event > 0 && (!get(event - 1, e) || e.at.m > n)) return false;
+    return !get(event, e) || e.at.m >= n;
+  }
+
   // The k-th event (k ≥ 0); false past the last.
   bool get(std::int64_t k, lgi::detail::OutputEvent<double>& e) const {
     if (every_ == 0) {
@@ -51,6 +61,7 @@ class GridEvents {
       return true;
     }
     if (end_.m == 0 && end_.on_grid) return false;  // t_end = 0: no event
+    if (k > end_.m / every_ + 1) return false;        // past t_end (and k·every below cannot overflow)
     const auto is_grid = [&](std::int64_t m) { return m < end_.m || (m == end_.m && !end_.on_grid); };
     if (k > 0 && !is_grid(k * every_)) return false;  // event k − 1 was t_end (k·every ≤ 1e13 beyond this line)
     const std::int64_t m = (k + 1) * every_;
@@ -82,6 +93,7 @@ Halt drive_grid(S& stepper, typename S::Internal& y, double h, const GridEvents&
   moved = c.n > 0;
   lgi::detail::OutputEvent<double> event;
   if (!events.get(c.event, event)) return Halt::none;
+  std::int64_t next_check = c.n + 1;  // the grid index of the next monitor call
   for (;;) {
     lgi::detail::OutputEvent<double> following;
     const bool more = events.get(c.event + 1, following);
@@ -98,14 +110,16 @@ Halt drive_grid(S& stepper, typename S::Internal& y, double h, const GridEvents&
         break;
       }
       ++n;
-      if (n % monitor_stride == 0) [[unlikely]] {
+      if (n == next_check) [[unlikely]] {
         c.steps += n - c.n;
         c.n = n;
-        if (!monitor(static_cast<const Cursor&>(c), static_cast<const Internal&>(y))) {
+        const std::int64_t stride = monitor(static_cast<const Cursor&>(c), static_cast<const Internal&>(y));
+        if (stride <= 0) {
           summary.status = RunStatus::stopped;
           halt = Halt::monitor;
           break;
         }
+        next_check = n + stride;
       }
     }
     c.steps += n - c.n;
@@ -176,15 +190,19 @@ Halt drive_adaptive(S& stepper, typename S::Internal& y, std::span<const double>
   constexpr double eps = std::numeric_limits<double>::epsilon();
   Internal y1 = y;
   typename S::Dense dense{};
+  std::int64_t next_check = c.attempts + 1;  // the attempt count at the next monitor call
   for (;;) {
     if (c.attempts >= attempt_limit) {
       summary.status = RunStatus::stopped;
       return Halt::budget;
     }
-    if (c.attempts > 0 && c.attempts % monitor_stride == 0 &&
-        !monitor(static_cast<const Cursor&>(c), static_cast<const Internal&>(y))) {
-      summary.status = RunStatus::stopped;
-      return Halt::monitor;
+    if (c.attempts == next_check) [[unlikely]] {
+      const std::int64_t stride = monitor(static_cast<const Cursor&>(c), static_cast<const Internal&>(y));
+      if (stride <= 0) {
+        summary.status = RunStatus::stopped;
+        return Halt::monitor;
+      }
+      next_check = c.attempts + stride;
     }
     const double remaining = t_end - c.t;
     bool last = false;

@@ -132,7 +132,7 @@ bool run_session(S& stepper, typename S::Internal& y, const Scene& scene, const 
   Cursor c;
   if (const Checkpoint* ck = options.resume) {
     if (ck->internal.size() != internal_size<Internal>() || ck->cursor.adaptive != adaptive)
-      throw InputError(options.checkpoint_path + ": /internal: " + std::to_string(ck->internal.size()) +
+      throw InputError(options.resume_path + ": /internal: " + std::to_string(ck->internal.size()) +
                        " numbers for a stepper of method " + std::string(scene.method->traits.name) + " that keeps " +
                        std::to_string(internal_size<Internal>()) + (adaptive ? " (adaptive)" : " (fixed steps)") +
                        ": written by another version of lgi?");
@@ -140,11 +140,47 @@ bool run_session(S& stepper, typename S::Internal& y, const Scene& scene, const 
     for_each_number(y, [&](double& v) { v = ck->internal[i++]; });
     c = ck->cursor;
     rows.set_last_row(ck->has_last_row, ck->last_row_t);
+    // The cursor must be a place this scene's run passes through (the checksum guards against damage; this
+    // against a checkpoint of another scene's run pasted in).
+    const auto bad_cursor = [&](const std::string& what) {
+      throw InputError(options.resume_path + ": /cursor: " + what + " (not a place this scene's run passes through)");
+    };
+    if (adaptive) {
+      if (!(c.t <= scene.t_end)) bad_cursor("t = " + format_number(c.t) + " beyond t_end = " + format_number(scene.t_end));
+      if (c.next > static_cast<std::int64_t>(times.size()))
+        bad_cursor("next output " + std::to_string(c.next) + " of " + std::to_string(times.size()));
+      if (c.next > 0 && times[static_cast<std::size_t>(c.next - 1)] > c.t)
+        bad_cursor("output time " + format_number(times[static_cast<std::size_t>(c.next - 1)]) + " not yet reached at t = " +
+                   format_number(c.t));
+    } else {
+      const lgi::detail::GridPoint end = lgi::detail::locate(0.0, scene.dt, scene.t_end);
+      if (c.n > end.m) bad_cursor("grid index n = " + std::to_string(c.n) + " beyond t_end (" + std::to_string(end.m) + ")");
+    }
   } else {
     row(0.0, static_cast<const Internal*>(nullptr));
     if (adaptive) {
       c = adaptive_start(scene.dt, adaptive_options);
       while (static_cast<std::size_t>(c.next) < times.size() && times[static_cast<std::size_t>(c.next)] == 0.0) ++c.next;
+    }
+  }
+  if (options.resume) {  // the fixed-step cursor against the output events: checked by the drive below, first
+    if (!adaptive) {
+      const bool ok = !scene.output_times.empty() && !observing
+                          ? GridEvents(std::span<const double>(times), scene.dt).accepts(c.n, c.event)
+                          : GridEvents(observing ? 1 : scene.output_every > 0 ? scene.output_every : std::int64_t{1} << 62,
+                                       scene.t_end, scene.dt)
+                                .accepts(c.n, c.event);
+      if (!ok)
+        throw InputError(options.resume_path + ": /cursor/event: output event " + std::to_string(c.event) +
+                         " does not follow grid index n = " + std::to_string(c.n) +
+                         " (not a place this scene's run passes through)");
+    }
+    if (options.resume_accepted && !options.resume_accepted(report.checkpoint_error)) {
+      report.summary.status = RunStatus::stopped;
+      report.summary.steps = c.steps;
+      report.summary.t = adaptive ? c.t : static_cast<double>(c.n) * scene.dt;
+      report.stop_reason = StopReason::write_failed;
+      return true;
     }
   }
   const Cursor start = c;
@@ -158,13 +194,19 @@ bool run_session(S& stepper, typename S::Internal& y, const Scene& scene, const 
     if (ok) session.checkpointed(at.steps);
     return ok;
   };
-  const auto monitor = [&](const Cursor& at, const Internal& z) {
+  // The steps to the next call, or 0 to stop (runner_drive.hpp).
+  const auto monitor = [&](const Cursor& at, const Internal& z) -> std::int64_t {
     switch (session.check(at.steps)) {
-      case SessionMonitor::Action::stop: return false;
-      case SessionMonitor::Action::checkpoint: checkpoint(at, z); return true;
+      case SessionMonitor::Action::stop: return 0;
+      case SessionMonitor::Action::checkpoint:
+        if (!checkpoint(at, z)) {  // the first failed write stops the run; the last checkpoint stays
+          session.stop(StopReason::write_failed);
+          return 0;
+        }
+        break;
       case SessionMonitor::Action::proceed: break;
     }
-    return true;
+    return session.stride();
   };
 
   IntegrationSummary summary;
@@ -181,15 +223,16 @@ bool run_session(S& stepper, typename S::Internal& y, const Scene& scene, const 
   if (!adaptive) {
     const std::int64_t limit =
         scene.max_steps > 0 ? start.steps + scene.max_steps : std::numeric_limits<std::int64_t>::max();
+    const auto drive = [&](const GridEvents& events) {
+      return drive_grid(stepper, y, scene.dt, events, limit, c, summary, moved, row, monitor);
+    };
     if (!scene.output_times.empty() && !observing) {
-      const GridEvents events(std::span<const double>(times), scene.dt);
-      halt = drive_grid(stepper, y, scene.dt, events, limit, c, summary, moved, row, monitor);
+      halt = drive(GridEvents(std::span<const double>(times), scene.dt));
     } else {
       const std::int64_t every = observing               ? 1
                                  : scene.output_every > 0 ? scene.output_every
                                                           : std::int64_t{1} << 62;
-      const GridEvents events(every, scene.t_end, scene.dt);
-      halt = drive_grid(stepper, y, scene.dt, events, limit, c, summary, moved, row, monitor);
+      halt = drive(GridEvents(every, scene.t_end, scene.dt));
     }
   }
   report.wall_seconds = std::chrono::duration<double>(Clock::now() - clock_start).count();
@@ -203,7 +246,10 @@ bool run_session(S& stepper, typename S::Internal& y, const Scene& scene, const 
   }
   if (halt == Halt::monitor) report.stop_reason = session.reason();
   if (halt == Halt::budget) report.stop_reason = StopReason::max_steps;
-  if ((halt == Halt::monitor || halt == Halt::budget) && checkpointer.enabled() && checkpoint(c, y))
+  // A checkpoint where a signal or a budget stopped the run — not after a failed write: the rows it would count
+  // did not all reach the file, and the last checkpoint written still counts only rows that did.
+  if ((halt == Halt::monitor || halt == Halt::budget) && report.stop_reason != StopReason::write_failed &&
+      checkpointer.enabled() && checkpoint(c, y))
     report.checkpoint_written = options.checkpoint_path;
   if (halt != Halt::none && options.csv && !(rows.has_row() && rows.last_t() == summary.t)) {
     row(summary.t, moved ? &y : nullptr);  // the last good state, the file's last row
@@ -223,30 +269,33 @@ RunReport run_stepper(S& stepper, const P& problem, const Scene& scene, const Ru
   RunReport report;
   report.expected_steps = static_cast<std::int64_t>(std::ceil(scene.t_end / scene.dt - 1e-9));
   RowWriter rows(options.csv);
-  if (options.csv && !options.resume) {
-    const std::string h = header_for<P>() + "\n";
-    if (std::fwrite(h.data(), 1, h.size(), options.csv) != h.size()) report.write_failed = true;
-  }
+  if (options.csv && !options.resume && !options.csv->write_record(header_for<P>() + "\n")) report.write_failed = true;
   const State<double>& x0 = scene.initial;
   const auto from_state = [&stepper](const State<double>& x, double t) { return stepper.to_internal(x, t); };
   Observation<S, decltype(from_state)> observation(stepper, from_state, scene.dt, !(scene.options.rtol > 0));
+  // The columns of a row (csv_header) at time t, state y (nullptr: the initial state as given), one add(v) each.
+  const auto columns = [&](double t, const Internal* y, auto&& add) {
+    const State<double> x = y ? stepper.to_state(*y) : x0;
+    add(t);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) add(x.R(r, c));
+    for (int i = 0; i < 3; ++i) add(x.Omega(i));
+    add(energy_at(problem, t, x));
+    add(so3::orthogonality_error(x.R));
+    for (const double v : invariants_at(problem, t, x)) add(v);
+  };
   auto row = [&](double t, const Internal* y) {
     if (options.observer) observation.event(t, y, x0, *options.observer);
     if (!options.csv) return;
-    const State<double> x = y ? stepper.to_state(*y) : x0;
-    rows.add(t);
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) rows.add(x.R(r, c));
-    for (int i = 0; i < 3; ++i) rows.add(x.Omega(i));
-    rows.add(energy_at(problem, t, x));
-    rows.add(so3::orthogonality_error(x.R));
-    for (const double v : invariants_at(problem, t, x)) rows.add(v);
+    columns(t, y, [&](double v) { rows.add(v); });
     rows.end_row();
   };
   report.energy_initial = energy_at(problem, 0.0, x0);
   const auto inv0 = invariants_at(problem, 0.0, x0);
   Internal y = stepper.to_internal(x0, 0.0);
-  const State<double> x = run_session(stepper, y, scene, options, row, rows, report) ? stepper.to_state(y) : x0;
+  const bool moved = run_session(stepper, y, scene, options, row, rows, report);
+  const State<double> x = moved ? stepper.to_state(y) : x0;
+  columns(report.summary.t, moved ? &y : nullptr, [&](double v) { report.final_columns.push_back(v); });
   if (options.observer) observation.finish(*options.observer);
   report.final_state = x;
   report.energy_final = energy_at(problem, report.summary.t, x);
@@ -331,31 +380,35 @@ RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& sc
   const EuclideanRk<Tableau, EulerAngleTop<double>> rk(problem);
   EulerAngleSteps<Tableau> stepper{rk, problem};
   RowWriter rows(options.csv);
-  if (options.csv && !options.resume) {
-    const std::string h = header_for<EulerAngleTop<double>>() + "\n";
-    if (std::fwrite(h.data(), 1, h.size(), options.csv) != h.size()) report.write_failed = true;
-  }
+  if (options.csv && !options.resume && !options.csv->write_record(header_for<EulerAngleTop<double>>() + "\n"))
+    report.write_failed = true;
   const Vector y0 = problem.from_state(scene.initial);
   // Side-steps and the shadow trajectory of an observed run step a copy: a step of theirs that leaves the domain
   // does not mark the run.
   EulerAngleSteps<Tableau> observed_steps{rk, problem};
   const auto from_state = [&problem](const State<double>& x, double) { return problem.from_state(x); };
   Observation<EulerAngleSteps<Tableau>, decltype(from_state)> observation(observed_steps, from_state, scene.dt, true);
+  const auto columns = [&](double t, const Vector* v, auto&& add) {
+    const Vector& y = v ? *v : y0;
+    const State<double> x = problem.to_state(y);
+    add(t);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) add(x.R(r, c));
+    for (int i = 0; i < 3; ++i) add(x.Omega(i));
+    add(problem.energy(y));
+    add(so3::orthogonality_error(x.R));
+    for (const double v2 : problem.invariants(y)) add(v2);
+  };
   auto row = [&](double t, const Vector* v) {
     if (options.observer) observation.event(t, v, scene.initial, *options.observer);
     if (!options.csv) return;
-    const Vector& y = v ? *v : y0;
-    const State<double> x = problem.to_state(y);
-    rows.add(t);
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) rows.add(x.R(r, c));
-    for (int i = 0; i < 3; ++i) rows.add(x.Omega(i));
-    rows.add(problem.energy(y));
-    rows.add(so3::orthogonality_error(x.R));
-    for (const double v2 : problem.invariants(y)) rows.add(v2);
+    columns(t, v, [&](double x) { rows.add(x); });
     rows.end_row();
   };
-  constexpr std::array<int, 2> integrals{0, 1};  // momentum_k, momentum_psi (the integrals among the columns)
+  const auto final_columns = [&](double t, const Vector* v) {
+    columns(t, v, [&](double x) { report.final_columns.push_back(x); });
+  };
+
   report.energy_initial = problem.energy(y0);
   const auto inv0 = problem.invariants(y0);
   if (!problem.admissible(y0)) {  // already at t = 0: no admissible state at all
@@ -374,10 +427,12 @@ RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& sc
     // The angle rates (hence the angle-form energy) are undefined at sin θ = 0: the energy of the same state
     // on SO(3) instead.
     report.energy_initial = report.energy_final = energy(problem.heavy_top(), scene.initial);
+    final_columns(0.0, nullptr);
     return report;
   }
   Vector y = y0;
-  run_session(stepper, y, scene, options, row, rows, report);
+  const bool moved = run_session(stepper, y, scene, options, row, rows, report);
+  final_columns(report.summary.t, moved ? &y : nullptr);
   if (options.observer) observation.finish(*options.observer);
   if (stepper.left && report.summary.status == RunStatus::step_failed) {
     // t_outside: the time of the rejected state (sin θ < min_sin_theta); the last admissible one is kept.
@@ -396,9 +451,8 @@ RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& sc
   report.final_state = problem.to_state(y);
   report.energy_final = problem.energy(y);
   const auto inv1 = problem.invariants(y);
-  for (const int i : integrals)
-    report.invariants.push_back({std::string(EulerAngleTop<double>::invariant_names[static_cast<std::size_t>(i)]),
-                                 inv0[static_cast<std::size_t>(i)], inv1[static_cast<std::size_t>(i)]});
+  for (std::size_t i = 0; i < integral_count<EulerAngleTop<double>>(); ++i)  // momentum_k, momentum_psi
+    report.invariants.push_back({std::string(EulerAngleTop<double>::invariant_names[i]), inv0[i], inv1[i]});
   return report;
 }
 

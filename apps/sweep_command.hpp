@@ -30,9 +30,12 @@
 // and one row per member in member order. "status": status (completed, or why the run ended: the step's
 // status — not_converged, non_finite, step_size_underflow, ... —, left_domain, max_steps) and steps;
 // "final": the columns of `lgi run`'s last row (t, R11…R33, omega1…omega3, energy, orthogonality_error, the
-// problem's invariants), equal to that row character for character; "invariants": energy_rel_change and
-// <invariant>_rel_change, |final − initial| / |initial| (/ 1 when initial is 0). A member whose step fails is a
-// row with its status and last good state, not an error: the sweep exits 0 and the summary counts them.
+// problem's own columns), computed by the same code as that row and equal to it character for character;
+// "invariants": energy_rel_change and <integral>_rel_change for the problem's integrals of the motion, |final −
+// initial| / |initial| (/ 1 when initial is 0). A member whose step fails is a row with its status and last good
+// state, not an error: the sweep exits 0 and the summary counts them. No row holds an infinity or a NaN: a recorded
+// number that is not finite is an empty field, and the member's status says so (non_finite, or not_finite when the
+// run completed).
 // Nothing in the CSV depends on the wall clock, the thread count or the shard: "limits.max_wall_seconds" is
 // refused in a sweep. The scene's "output" is ignored (no rows: no side-steps to output times).
 //
@@ -48,13 +51,17 @@
 // --threads N (0: all cores; default 1): workers take members in turn; rows are written in member order, so
 // the file is byte-identical for every N. --shard i/N runs the members m with m mod N = i and writes a part
 // file: its first line "# lgi sweep shard i/N: M members, sweep HASH, lgi VERSION" (HASH: FNV-1a 64 of the
-// sweep document as nlohmann::json::dump() writes it), then the header and its rows. `lgi merge` takes all N
-// parts of one sweep (any order), checks them (same sweep, version, header; every shard once; each part's
-// rows exactly its members) and writes the file the serial run writes, byte for byte.
+// sweep document as nlohmann::json::dump() writes it), then the header and its rows, and last the check line
+// "# lgi sweep part end: fnv1a64 HASH" over every byte before it (sweep_part.hpp). `lgi merge` takes all N
+// parts of one sweep (any order), checks them (each part's bytes against its check line; same sweep, version,
+// header; every shard once; each part's rows exactly its members, of the header's width) and writes the file the
+// serial run writes, byte for byte.
 //
 // Exit status (command.hpp): 0 done (members whose step failed included); 1 bad command line, sweep file,
 // member or part (one message naming the file, the JSON path or line, and the problem; no output file);
-// 3 the output could not be written; 4 internal error. -o is required: the output is written atomically.
+// 3 the output could not be written (the first failed write stops the sweep); 4 internal error. -o is required:
+// a file is written atomically; -o -, a device or a FIFO is streamed to (not with crossings, whose file goes beside
+// the output). A worker thread the system refuses is a warning: the sweep goes on with the others (same bytes).
 #pragma once
 
 #include <cstdint>
@@ -74,7 +81,7 @@ struct SweepCommandOptions {
   // (the same bytes; for comparison).
   bool batch = true;
   // When *stop becomes non-zero (a signal number: `lgi` sets it on SIGINT and SIGTERM) the sweep stops — a
-  // running member at its next monitor call (every 1024 steps), the others before they start — and exits
+  // running member at its next monitor call (about every 10 ms of work), the others before they start — and exits
   // 128 + signal with nothing written: a partial sweep is not kept (rerun it, or run shards).
   const volatile std::sig_atomic_t* stop = nullptr;
 };

@@ -81,9 +81,13 @@ inline std::optional<std::string> inertia_defect(const Mat3<double>& M, int* row
                detail::number(M(r, c)) + " but I" + std::to_string(c + 1) + std::to_string(r + 1) + " = " +
                detail::number(M(c, r));
       }
-  const Mat3<double> S = 0.5 * (M + M.transpose());
+  if (!(scale < 1e150))  // the eigenvalues (or the inverse) of such a tensor are not representable
+    return "inertia tensor's scale (largest entry " + detail::number(scale) +
+           ") is outside [1e-150, 1e150]: its inverse is not representable; change the units";
+  // The eigenvalues of M/scale (entries in [-1, 1]: no overflow in the solver), scaled back.
+  const Mat3<double> S = 0.5 * (M / scale + M.transpose() / scale);
   const Eigen::SelfAdjointEigenSolver<Mat3<double>> eig(S, Eigen::EigenvaluesOnly);
-  const Vec3<double> l = eig.eigenvalues();  // ascending
+  const Vec3<double> l = scale * eig.eigenvalues();  // ascending
   if (!(l(0) > 1e-14 * scale) || !std::isfinite(l(0)))
     return "inertia tensor is not positive definite (principal moments " + detail::number(l(0)) + ", " +
            detail::number(l(1)) + ", " + detail::number(l(2)) + ")";

@@ -25,6 +25,9 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
+#include <boost/math/special_functions/gamma.hpp>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <span>
@@ -49,6 +52,11 @@ struct FitOptions {
   StepperOptions stepper;  // the integrator's options (Newton tolerance, ...); rtol/atol must be 0
   SolverOptions solver;
   bool compute_covariance = true;
+  // Goodness of fit: with observations that carry their true σ and a model that explains them, χ² = Σ (r/σ)² at
+  // the solution follows a χ² distribution with ν = residuals − free coordinates degrees of freedom. The fit is
+  // usable only if P(χ²_ν ≥ χ²) ≥ min_p_value (FitResult::p_value; the test is not applied with robust losses or
+  // when ν ≤ 0). 0 turns the test off.
+  double min_p_value = 1e-3;
   // Horizon continuation: fit first the observations with t ≤ f·t_last for each f here (increasing, in (0, 1)),
   // each stage starting from the previous one's estimate, then all of them. A fast-spinning body observed over
   // many turns has a cost with many local minima in Ω0 and the inertia; a short horizon has few.
@@ -90,9 +98,14 @@ struct FitResult {
   std::string termination_type;             // "CONVERGENCE", "NO_CONVERGENCE", "FAILURE", ...
   std::string message;                      // Ceres' message
   bool covariance_ok = false;
-  bool usable = false;                      // converged, finite cost, covariance (or periodic residual) fine
+  bool usable = false;  // converged, finite cost, covariance fine and the data explained (or periodic residual fine)
   int residuals = 0;
   double max_residual = 0;                  // max |r/σ| (periodic: max |r|)
+  double chi_square = 0;                    // Σ (r/σ)² at the solution, before any robust loss (periodic: Σ r²)
+  int degrees_of_freedom = 0;               // residuals − free tangent coordinates
+  // P(χ²_ν ≥ chi_square) (regularised upper incomplete gamma Q(ν/2, χ²/2)) where the goodness-of-fit test applies
+  // (observations without robust losses, ν > 0); −1 where it does not.
+  double p_value = -1;
   long integrations = 0;                    // integrations run (one per Jet pass)
   double seconds = 0;                       // wall time of the solve
   std::string report;                       // Ceres' BriefReport
@@ -229,10 +242,15 @@ FitResult<P> collect(Model<Method, P, N>& model, ceres::Problem& problem, const 
   // Largest residual at the solution.
   double cost = 0;
   std::vector<double> r;
-  if (problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, &r, nullptr, nullptr))
-    for (const double e : r) res.max_residual = std::max(res.max_residual, std::abs(e));
-  else
-    res.max_residual = std::numeric_limits<double>::infinity();
+  if (problem.Evaluate(ceres::Problem::EvaluateOptions(), &cost, &r, nullptr, nullptr)) {
+    for (const double e : r) {
+      res.max_residual = std::max(res.max_residual, std::abs(e));
+      res.chi_square += e * e;
+    }
+  } else {
+    res.max_residual = res.chi_square = std::numeric_limits<double>::infinity();
+  }
+  res.degrees_of_freedom = res.residuals - n;
   return res;
 }
 
@@ -301,8 +319,18 @@ FitResult<P> fit_observations(const P& problem, const State<double>& initial, st
   mo.stepper = options.stepper;
   Model<Method, P, N> model(problem, initial, unknowns, observations, mo);
   FitResult<P> res = detail::solve(model, options.solver, options.compute_covariance);
+  const bool robust = std::any_of(observations.begin(), observations.end(),
+                                  [](const Observation& o) { return o.loss != Loss::none; });
+  if (!robust && res.degrees_of_freedom > 0 && std::isfinite(res.chi_square)) {
+    try {
+      res.p_value = boost::math::gamma_q(0.5 * res.degrees_of_freedom, 0.5 * res.chi_square);
+    } catch (const std::exception&) {  // Boost.Math's evaluation limits: far in a tail
+      res.p_value = res.chi_square > res.degrees_of_freedom ? 0.0 : 1.0;
+    }
+  }
   res.usable = res.termination == ceres::CONVERGENCE && std::isfinite(res.final_cost) &&
-               (!options.compute_covariance || res.covariance_ok);
+               (!options.compute_covariance || res.covariance_ok) &&
+               (res.p_value < 0 || res.p_value >= options.min_p_value);
   return res;
 }
 

@@ -219,10 +219,10 @@ inline ceres::LossFunction* make_loss(const Observation& o) {
 }
 
 // Observations from a table whose columns follow `lgi run`'s CSV names: t, R11..R33 (attitude), omega1..3
-// (gyro). Each row gives an attitude observation when the R columns are present and sigma_attitude > 0, and an
-// angular-velocity observation when the omega columns are present and sigma_omega > 0. Other columns are
-// ignored. Throws FitInputError for a missing t column, a row whose size differs from the header's, or a
-// table that yields no observation.
+// (gyro). Each row gives an attitude observation when sigma_attitude > 0 and an angular-velocity observation when
+// sigma_omega > 0. Other columns are ignored. Throws FitInputError for a header that names a column twice, a
+// missing t column, a σ given without all of its columns (the missing ones are named), a row whose size differs
+// from the header's, or a table that yields no observation.
 struct TableOptions {
   double sigma_attitude = 0;  // 0: attitudes not used
   double sigma_omega = 0;     // 0: angular velocities not used
@@ -237,15 +237,30 @@ inline std::vector<Observation> observations_from_table(std::span<const std::str
       if (header[i] == name) return static_cast<int>(i);
     return -1;
   };
+  // A name twice is ambiguous: refused, whatever the column.
+  for (std::size_t i = 0; i < header.size(); ++i)
+    for (std::size_t j = i + 1; j < header.size(); ++j)
+      if (header[i] == header[j])
+        throw FitInputError(options.field, "column '" + header[i] + "' appears twice (columns " + std::to_string(i + 1) +
+                                               " and " + std::to_string(j + 1) + " of the header)");
   const int t_col = column("t");
   if (t_col < 0) throw FitInputError(options.field, "no column 't'");
   static constexpr std::string_view R_names[9] = {"R11", "R12", "R13", "R21", "R22", "R23", "R31", "R32", "R33"};
   static constexpr std::string_view W_names[3] = {"omega1", "omega2", "omega3"};
   int R_cols[9], W_cols[3];
-  bool has_R = true, has_W = true;
-  for (int i = 0; i < 9; ++i) has_R = (R_cols[i] = column(R_names[i])) >= 0 && has_R;
-  for (int i = 0; i < 3; ++i) has_W = (W_cols[i] = column(W_names[i])) >= 0 && has_W;
-  const bool use_R = has_R && options.sigma_attitude > 0, use_W = has_W && options.sigma_omega > 0;
+  std::string R_missing, W_missing;
+  for (int i = 0; i < 9; ++i)
+    if ((R_cols[i] = column(R_names[i])) < 0) R_missing += (R_missing.empty() ? "" : ", ") + std::string(R_names[i]);
+  for (int i = 0; i < 3; ++i)
+    if ((W_cols[i] = column(W_names[i])) < 0) W_missing += (W_missing.empty() ? "" : ", ") + std::string(W_names[i]);
+  // A declared observation type (its σ given) needs all of its columns: none is dropped silently.
+  if (options.sigma_attitude > 0 && !R_missing.empty())
+    throw FitInputError(options.field, "sigma_attitude is given but the attitude columns " + R_missing +
+                                           " are missing (need R11..R33)");
+  if (options.sigma_omega > 0 && !W_missing.empty())
+    throw FitInputError(options.field, "sigma_omega is given but the angular-velocity columns " + W_missing +
+                                           " are missing (need omega1..omega3)");
+  const bool use_R = options.sigma_attitude > 0, use_W = options.sigma_omega > 0;
   if (!use_R && !use_W)
     throw FitInputError(options.field, "no usable columns: need R11..R33 with a attitude sigma, or omega1..omega3 "
                                        "with an angular-velocity sigma");

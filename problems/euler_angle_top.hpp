@@ -212,6 +212,8 @@ struct EulerAngleTop {
 
   // Extra CSV columns after the standard ones: the integrals m_φ (= m·k, named as the heavy top's column)
   // and m_ψ, the distance sin θ to the singularity, and the angles themselves (φ + Φ, ψ + Ψ: continuous).
+  // The first integral_count invariants are integrals of the motion; sin_theta, phi, theta, psi are coordinates.
+  static constexpr std::size_t integral_count = 2;
   static constexpr std::array<std::string_view, 6> invariant_names{"momentum_k", "momentum_psi", "sin_theta",
                                                                    "phi",        "theta",        "psi"};
   std::array<T, 6> invariants(const Vector& y) const {

@@ -363,7 +363,8 @@ TEST_F(CliSweep, ShardsMergeToTheSerialBytes) {
     const std::string part = "p" + std::to_string(i) + ".csv";
     ASSERT_EQ(sweep("grid.json", part, "--shard " + std::to_string(i) + "/3").status, 0);
     const auto lines = lines_of(read(part));
-    ASSERT_EQ(lines.size(), 12u);
+    ASSERT_EQ(lines.size(), 13u);  // the shard line, the header, 10 rows, the check line
+    EXPECT_EQ(lines[12].rfind("# lgi sweep part end: fnv1a64 ", 0), 0u) << lines[12];
     EXPECT_EQ(lines[0].rfind("# lgi sweep shard " + std::to_string(i) + "/3: 30 members, sweep ", 0), 0u) << lines[0];
   }
   const CommandResult m = lgi("merge " + (dir_ / "p2.csv").string() + " " + (dir_ / "p0.csv").string() + " " +
@@ -492,6 +493,24 @@ TEST_F(CliSweep, BadSweepFilesAreRefusedWithoutOutput) {
 }
 
 // Merge refuses a missing shard, a shard twice, shards of two sweeps, a cut part and a file that is no part.
+// A part's text without its last n lines.
+std::string without_last_lines(std::string text, int n) {
+  for (int i = 0; i < n; ++i) text.resize(text.rfind('\n', text.size() - 2) + 1);
+  return text;
+}
+// The part's check line (apps/sweep_part.hpp) for `body`, appended: a part edited on purpose, to reach the checks
+// behind the hash.
+std::string resign(const std::string& body) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (const unsigned char c : body) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char line[64];
+  std::snprintf(line, sizeof line, "# lgi sweep part end: fnv1a64 %016llx\n", static_cast<unsigned long long>(h));
+  return body + line;
+}
+
 TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {
   write("a.json", heavy_top_sweep(R"({"grid": {"/problem/b": [0.5, 1, 1.5, 2, 2.5]}, "record": ["status"]})"));
   write("b.json", heavy_top_sweep(R"({"grid": {"/problem/b": [0.5, 1, 1.5, 2, 3]}, "record": ["status"]})"));
@@ -500,7 +519,8 @@ TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {
       ASSERT_EQ(sweep(s + ".json", s + std::to_string(i) + ".csv", "--shard " + std::to_string(i) + "/3").status, 0);
   ASSERT_EQ(sweep("a.json", "serial.csv").status, 0);
   const std::string cut = read("a1.csv");
-  write("cut1.csv", cut.substr(0, cut.rfind('\n', cut.size() - 2) + 1));  // its last row gone
+  write("cut1.csv", cut.substr(0, cut.rfind('\n', cut.size() - 2) + 1));  // its check line gone: unfinished
+  write("short1.csv", resign(without_last_lines(cut, 2)));                  // its last row gone, check line redone
   const auto p = [&](const std::string& name) { return (dir_ / name).string() + " "; };
   struct Case {
     std::string parts, message;
@@ -510,7 +530,8 @@ TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {
                                       " is missing"},
       {p("a0.csv") + p("a1.csv") + p("a1.csv"), p("a1.csv").substr(0, p("a1.csv").size() - 1) + ": shard 1/3 again"},
       {p("a0.csv") + p("b1.csv") + p("a2.csv"), "b1.csv:1: a shard of another sweep"},
-      {p("a0.csv") + p("cut1.csv") + p("a2.csv"), "cut1.csv:4: expected the row of member 4"},
+      {p("a0.csv") + p("cut1.csv") + p("a2.csv"), "cut1.csv: the part does not end with its check line"},
+      {p("a0.csv") + p("short1.csv") + p("a2.csv"), "short1.csv:4: expected the row of member 4"},
       {p("serial.csv"), "serial.csv:1: not a part file of lgi sweep --shard"},
       {p("a0.csv") + p("nothere.csv"), "nothere.csv: cannot read the part file"},
   };
@@ -541,10 +562,15 @@ TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {
     EXPECT_FALSE(fs::exists(dir_ / "cmerged.crossings.csv"));
   };
   refused(p("c0.csv") + p("c1.csv"), "c1.crossings.csv: cannot read the crossings part of");
-  write("c1.crossings.csv", c1.substr(0, c1.rfind('\n', c1.size() - 2) + 1));  // its last crossing gone
+  write("c1.crossings.csv", without_last_lines(c1, 1));  // its check line gone: unfinished
+  refused(p("c0.csv") + p("c1.csv"), "c1.crossings.csv: the part does not end with its check line");
+  write("c1.crossings.csv", resign(without_last_lines(c1, 2)));  // its last crossing gone, the check line redone
   refused(p("c0.csv") + p("c1.csv"), "c1.crossings.csv:4: expected crossing 0 of member 3 (1 in ");
-  write("c1.crossings.csv", c1 + c1.substr(c1.rfind('\n', c1.size() - 2) + 1));  // one too many
+  const std::string body = without_last_lines(c1, 1);
+  write("c1.crossings.csv", resign(body + body.substr(body.rfind('\n', body.size() - 2) + 1)));  // one too many
   refused(p("c0.csv") + p("c1.csv"), "c1.crossings.csv:5: a crossing beyond those the part's rows count");
+  write("c1.crossings.csv", c1 + "x");  // changed after its check line
+  refused(p("c0.csv") + p("c1.csv"), "c1.crossings.csv: the part does not end with its check line");
   write("c1.crossings.csv", read("c0.crossings.csv"));  // shard 0's
   refused(p("c0.csv") + p("c1.csv"), "c1.crossings.csv:1: not the crossings part of");
   write("c1.crossings.csv", c1);
@@ -627,7 +653,7 @@ TEST_F(CliSweep, ExampleSweepsLoadAndRun) {
     const CommandResult r = lgi("sweep " + entry.path().string() + " --shard 0/10000000 -q -o " + (dir_ / "part.csv").string());
     ASSERT_EQ(r.status, 0) << r.err;
     const auto lines = lines_of(read("part.csv"));
-    ASSERT_EQ(lines.size(), 3u);  // the shard line, the header, member 0
+    ASSERT_EQ(lines.size(), 4u);  // the shard line, the header, member 0, the check line
     EXPECT_EQ(lines[2].rfind("0,", 0), 0u);
     if (lines[1].find(",status,") != std::string::npos) {
       EXPECT_NE(lines[2].find(",completed,"), std::string::npos) << lines[2];

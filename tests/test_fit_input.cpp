@@ -126,8 +126,16 @@ TEST(FitInput, Options) {
   expect_field([&] { M(top, x0, omega_only, good_obs(), mo); }, "integrator", "max_iterations");
   const std::string header[] = {"t", "R11", "omega1"};
   const std::vector<double> rows[] = {{0.0, 1.0}};
+  // A σ given for columns the table lacks: an error naming them (not a fit of what is left).
   expect_field([&] { fit::observations_from_table(header, rows, {.sigma_attitude = 1e-3, .sigma_omega = 1e-3}); },
-               "observations", "no usable columns");
+               "observations", "R12, R13, R21, R22, R23, R31, R32, R33 are missing");
+  expect_field([&] { fit::observations_from_table(header, rows, {.sigma_omega = 1e-3}); }, "observations",
+               "omega2, omega3 are missing");
+  expect_field([&] { fit::observations_from_table(header, rows, {}); }, "observations", "no usable columns");
+  const std::string twice[] = {"t", "omega1", "omega2", "omega3", "omega2"};
+  const std::vector<double> rows5[] = {{0.0, 1.0, 2.0, 3.0, 4.0}};
+  expect_field([&] { fit::observations_from_table(twice, rows5, {.sigma_omega = 1e-3}); }, "observations",
+               "column 'omega2' appears twice (columns 3 and 5");
 }
 
 // An integration that fails inside a residual (LGVI's Newton iteration at h|Ω| = 50, far beyond its

@@ -1,0 +1,307 @@
+// lgi/apps/fit_file.cpp — reading fit files and observation tables (fit_file.hpp).
+#include "fit_file.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace lgi::app {
+
+namespace {
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  std::istringstream in(line);
+  while (std::getline(in, cell, ',')) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+std::string trim(std::string s) {
+  const auto not_space = [](unsigned char c) { return !std::isspace(c); };
+  s.erase(s.begin(), std::find_if(s.begin(), s.end(), not_space));
+  s.erase(std::find_if(s.rbegin(), s.rend(), not_space).base(), s.end());
+  return s;
+}
+
+}  // namespace
+
+void parse_observation_csv(const std::string& text, const std::string& path, std::vector<std::string>& header,
+                           std::vector<std::vector<double>>& rows, std::vector<int>& lines) {
+  std::istringstream in(text);
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find('\0') != std::string::npos)
+      throw CsvError(path + ":" + std::to_string(number) + ": a NUL byte (not a text file?)");
+    if (trim(line).empty()) continue;
+    std::vector<std::string> cells = split_csv_line(line);
+    if (header.empty()) {
+      for (std::string& c : cells) header.push_back(trim(c));
+      continue;
+    }
+    if (cells.size() != header.size())
+      throw CsvError(path + ":" + std::to_string(number) + ": row has " + std::to_string(cells.size()) +
+                     " values, the header " + std::to_string(header.size()));
+    std::vector<double> row;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const std::string c = trim(cells[i]);
+      char* end = nullptr;
+      const double v = std::strtod(c.c_str(), &end);
+      if (c.empty() || end != c.c_str() + c.size() || !std::isfinite(v))
+        throw CsvError(path + ":" + std::to_string(number) + ": column " + header[i] + ": not a finite number: " +
+                       quoted_input(c));
+      row.push_back(v);
+    }
+    rows.push_back(std::move(row));
+    lines.push_back(number);
+  }
+  if (header.empty()) throw CsvError(path + ": empty observations file (no header row)");
+  if (rows.empty()) throw CsvError(path + ": no data rows after the header");
+}
+
+namespace {
+
+// Reads an `lgi run`-style CSV file (parse_observation_csv).
+void read_csv(const std::string& path, std::vector<std::string>& header, std::vector<std::vector<double>>& rows,
+              std::vector<int>& lines) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) throw CsvError(path + ": cannot read the observations file: " + ec.message());
+  if (size > max_input_bytes)
+    throw CsvError(path + ": file of " + std::to_string(size) + " bytes, more than the " + std::to_string(max_input_bytes) +
+                   " an observations file may have");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CsvError(path + ": cannot read the observations file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  parse_observation_csv(text.str(), path, header, rows, lines);
+}
+
+fit::Observation read_observation(const Node& o) {
+  o.allow_only({"t", "R", "q", "omega", "axis", "direction", "sigma", "loss", "loss_scale"}, "an observation");
+  const double t = o.at("t").number();
+  const double sigma = o.at("sigma").number();  // > 0 is checked by the library, naming the observation
+  const bool R = o.find("R").has_value(), q = o.find("q").has_value(), w = o.find("omega").has_value(),
+             a = o.find("axis").has_value() || o.find("direction").has_value();
+  if (R + q + w + a != 1)
+    o.fail("an observation gives exactly one of \"R\", \"q\", \"omega\", or \"axis\" with \"direction\"");
+  fit::Observation obs;
+  if (R) {
+    obs = fit::Observation::attitude(t, o.at("R").mat3(), sigma);
+  } else if (q) {
+    const Node qn = o.at("q");
+    if (!qn.is_array() || qn.size() != 4) qn.fail("expected an array of 4 numbers (w, x, y, z), got " + describe(qn.value()));
+    Eigen::Vector4d v;
+    for (std::size_t i = 0; i < 4; ++i) v(static_cast<int>(i)) = qn.at(i).number();
+    if (v.norm() == 0) qn.fail("the zero quaternion is not a rotation");
+    obs = fit::Observation::attitude_quaternion(t, v, sigma);
+  } else if (w) {
+    obs = fit::Observation::angular_velocity(t, o.at("omega").vec3(), sigma);
+  } else {
+    obs = fit::Observation::body_axis(t, o.at("axis").vec3(), o.at("direction").vec3(), sigma);
+  }
+  if (const auto loss = o.find("loss")) {
+    try {
+      obs.loss = fit::loss_from_name(loss->string());
+    } catch (const fit::FitInputError& e) {
+      loss->fail(std::string(e.what()).substr(e.field().size() + 2));
+    }
+    if (obs.loss == fit::Loss::none && o.find("loss_scale")) o.at("loss_scale").fail("given without a robust \"loss\"");
+  } else if (o.find("loss_scale")) {
+    o.at("loss_scale").fail("given without a robust \"loss\"");
+  }
+  if (const auto scale = o.find("loss_scale")) obs.loss_scale = scale->number();
+  return obs;
+}
+
+// Bounds: numbers, or null for "none".
+std::vector<double> read_bounds(const Node& n, double none) {
+  if (!n.is_array()) n.fail("expected an array of numbers (null for no bound), got " + describe(n.value()));
+  std::vector<double> v;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const Node e = n.at(i);
+    v.push_back(e.value().is_null() ? none : e.number());
+  }
+  return v;
+}
+
+fit::Unknown read_unknown(const Node& u) {
+  if (u.value().is_string()) return fit::Unknown(u.string());
+  if (!u.is_object()) u.fail("expected a name (\"initial.omega\", ...) or an object with \"name\", got " + describe(u.value()));
+  u.allow_only({"name", "fixed", "lower", "upper"}, "an unknown");
+  fit::Unknown out(u.at("name").string());
+  if (const auto f = u.find("fixed")) {
+    if (!f->is_array()) f->fail("expected an array of component indices (0, 1, 2), got " + describe(f->value()));
+    for (std::size_t i = 0; i < f->size(); ++i) out.fixed.push_back(static_cast<int>(f->at(i).integer(0, 2)));
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  if (const auto l = u.find("lower")) out.lower = read_bounds(*l, -inf);
+  if (const auto h = u.find("upper")) out.upper = read_bounds(*h, inf);
+  return out;
+}
+
+}  // namespace
+
+FitSpec parse_fit_document(const json& document, const std::string& file) {
+  const Node root(document, "", file);
+  if (!root.is_object()) root.fail("expected an object (a scene with a \"fit\" section), got " + describe(document));
+  const Node fit_node = root.at("fit");
+  fit_node.allow_only({"unknowns", "observations", "continuation", "periodic", "solver", "covariance"}, "the fit section");
+
+  FitSpec spec;
+  // Periodic orbits need no t_end: it defaults to the period guess.
+  const auto periodic = fit_node.find("periodic");
+  if (periodic) {
+    periodic->allow_only({"period", "steps", "phase", "tolerance", "symmetry"}, "a periodic fit");
+    spec.periodic = true;
+    spec.period = periodic->at("period").positive();
+    // h = T/steps; without "steps", the scene's dt sets it (steps = round(T/dt)).
+    if (const auto s = periodic->find("steps")) spec.periodic_options.steps = static_cast<int>(s->integer(1, 100000000));
+    else spec.periodic_options.steps = 0;
+    if (const auto p = periodic->find("phase")) spec.phase = p->number();
+    if (const auto t = periodic->find("tolerance")) spec.periodic_options.tolerance = t->positive();
+    if (const auto s = periodic->find("symmetry")) {
+      const std::string name = s->string();
+      if (name == "automatic") spec.periodic_options.symmetry = fit::PeriodicSymmetry::automatic;
+      else if (name == "none") spec.periodic_options.symmetry = fit::PeriodicSymmetry::none;
+      else if (name == "about_k") spec.periodic_options.symmetry = fit::PeriodicSymmetry::about_k;
+      else if (name == "body_omega") spec.periodic_options.symmetry = fit::PeriodicSymmetry::body_omega;
+      else s->fail("unknown symmetry \"" + name + "\" (known: automatic, none, about_k, body_omega)");
+    }
+    if (fit_node.find("observations")) fit_node.at("observations").fail("a periodic fit takes no observations");
+    if (fit_node.find("continuation")) fit_node.at("continuation").fail("continuation is for fits to observations");
+    if (fit_node.find("covariance")) fit_node.at("covariance").fail("a periodic fit computes no covariance");
+  }
+
+  // The scene: everything but "fit".
+  json scene_doc = document;
+  scene_doc.erase("fit");
+  if (spec.periodic && !scene_doc.contains("t_end")) scene_doc["t_end"] = spec.period;
+  spec.scene = parse_scene(scene_doc, file);
+
+  // Unknowns.
+  const Node unknowns = fit_node.at("unknowns");
+  if (!unknowns.is_array() || unknowns.size() == 0)
+    unknowns.fail("expected a non-empty array of unknowns (\"initial.omega\", \"initial.R\", \"problem.inertia\", ...)");
+  for (std::size_t i = 0; i < unknowns.size(); ++i) {
+    spec.unknowns.push_back(read_unknown(unknowns.at(i)));
+    spec.unknown_is_string.push_back(unknowns.at(i).value().is_string());
+  }
+
+  // Observations.
+  if (!spec.periodic) {
+    const Node obs = fit_node.at("observations");
+    if (obs.is_array()) {
+      for (std::size_t i = 0; i < obs.size(); ++i) {
+        spec.observations.push_back(read_observation(obs.at(i)));
+        spec.observation_where.push_back(obs.at(i).where());
+      }
+    } else if (obs.is_object()) {
+      obs.allow_only({"csv", "sigma_attitude", "sigma_omega"}, "an observations table");
+      fit::TableOptions table;
+      if (const auto s = obs.find("sigma_attitude")) table.sigma_attitude = s->positive();
+      if (const auto s = obs.find("sigma_omega")) table.sigma_omega = s->positive();
+      if (table.sigma_attitude == 0 && table.sigma_omega == 0)
+        obs.fail("give \"sigma_attitude\" (for the R columns) and/or \"sigma_omega\" (for the omega columns)");
+      std::filesystem::path csv = obs.at("csv").string();
+      if (csv.is_relative()) csv = std::filesystem::path(file).parent_path() / csv;
+      std::vector<std::string> header;
+      std::vector<std::vector<double>> rows;
+      std::vector<int> lines;
+      read_csv(csv.string(), header, rows, lines);
+      table.field = obs.where();
+      try {
+        spec.observations = fit::observations_from_table(header, rows, table);
+      } catch (const fit::FitInputError& e) {
+        throw CsvError(csv.string() + ": " + std::string(e.what()).substr(e.field().size() + 2));
+      }
+      // One or two observations per row, in row order: attitude then angular velocity.
+      const std::size_t per_row = spec.observations.size() / rows.size();
+      for (std::size_t i = 0; i < spec.observations.size(); ++i)
+        spec.observation_where.push_back(csv.string() + ":" + std::to_string(lines[i / per_row]));
+      spec.observations_from_csv = true;
+    } else {
+      obs.fail("expected an array of observations or {\"csv\": FILE, ...}, got " + describe(obs.value()));
+    }
+    if (const auto c = fit_node.find("continuation")) {
+      if (!c->is_array()) c->fail("expected an array of fractions in (0, 1), got " + describe(c->value()));
+      for (std::size_t i = 0; i < c->size(); ++i) spec.options.continuation.push_back(c->at(i).number());
+    }
+    if (const auto c = fit_node.find("covariance")) {
+      if (!c->value().is_boolean()) c->fail("expected true or false, got " + describe(c->value()));
+      spec.options.compute_covariance = c->value().get<bool>();
+    }
+  }
+
+  // Solver.
+  fit::SolverOptions& solver = spec.periodic ? spec.periodic_options.solver : spec.options.solver;
+  if (const auto s = fit_node.find("solver")) {
+    s->allow_only({"max_iterations", "function_tolerance", "gradient_tolerance", "parameter_tolerance", "threads"},
+                  "the solver");
+    if (const auto v = s->find("max_iterations")) solver.max_iterations = static_cast<int>(v->integer(1, 100000));
+    if (const auto v = s->find("function_tolerance")) solver.function_tolerance = v->positive();
+    if (const auto v = s->find("gradient_tolerance")) solver.gradient_tolerance = v->positive();
+    if (const auto v = s->find("parameter_tolerance")) solver.parameter_tolerance = v->positive();
+    if (const auto v = s->find("threads")) solver.num_threads = static_cast<int>(v->integer(1, 256));
+  }
+
+  if (spec.periodic && spec.periodic_options.steps == 0) {
+    const double steps = std::round(spec.period / spec.scene.dt);
+    if (steps > 1e8) root.at("integrator").at("dt").fail("period/dt = " + format_number(steps) + " steps, more than 1e8");
+    spec.periodic_options.steps = std::max(1, static_cast<int>(steps));
+  }
+  spec.options.dt = spec.scene.dt;
+  spec.options.t_end = spec.scene.t_end;
+  spec.options.stepper = spec.scene.options;
+  spec.periodic_options.stepper = spec.scene.options;
+  return spec;
+}
+
+FitSpec read_fit_file(const std::string& file) { return parse_fit_document(read_json_file(file), file); }
+
+// The JSON path (or CSV line) of a FitInputError's field ("observations[3].t", "unknowns[1].name",
+// "initial.R", "integrator.dt", "period", ...).
+std::string where_of(const std::string& field, const FitSpec& spec) {
+  const auto indexed = [&](std::string_view prefix) -> std::pair<std::size_t, std::string> {
+    // "prefix[i].rest" → (i, "rest")
+    const std::size_t close = field.find(']');
+    const std::size_t i = std::stoul(field.substr(prefix.size() + 1, close - prefix.size() - 1));
+    const std::string rest = close + 1 < field.size() ? field.substr(close + 2) : "";
+    return {i, rest};
+  };
+  if (field.starts_with("observations[")) {
+    const auto [i, rest] = indexed("observations");
+    if (i < spec.observation_where.size()) {
+      if (spec.observations_from_csv) {
+        const std::string column = rest == "R" ? "columns R11..R33" : rest == "omega" ? "columns omega1..omega3"
+                                                                                        : rest == "t" ? "column t"
+                                                                                                      : rest;
+        return spec.observation_where[i] + ": " + column;
+      }
+      return spec.observation_where[i] + (rest.empty() ? "" : "/" + rest);
+    }
+  }
+  if (field.starts_with("unknowns[")) {
+    const auto [i, rest] = indexed("unknowns");
+    const bool bare = i < spec.unknown_is_string.size() && spec.unknown_is_string[i];
+    return "/fit/unknowns/" + std::to_string(i) + (rest.empty() || bare ? "" : "/" + rest);
+  }
+  if (field == "observations" || field == "unknowns" || field == "continuation") return "/fit/" + field;
+  if (field == "period" || field == "steps" || field == "symmetry" || field == "phase") return "/fit/periodic/" + field;
+  std::string path = "/" + field;  // initial.R → /initial/R, integrator.dt → /integrator/dt
+  std::replace(path.begin(), path.end(), '.', '/');
+  return path;
+}
+
+}  // namespace lgi::app

@@ -1,0 +1,50 @@
+// lgi/apps/fit_file.hpp — fit files (fit_command.cpp has the format) and observation tables, read and checked before
+// anything is solved. Needs lgi::fit (Ceres).
+#pragma once
+
+#include "json_reader.hpp"
+#include "scene.hpp"
+
+#include <lgi/fit/fit.hpp>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace lgi::app {
+
+// The fit section, read and checked.
+struct FitSpec {
+  Scene scene;
+  std::vector<fit::Unknown> unknowns;
+  std::vector<bool> unknown_is_string;     // given as "name" rather than {"name": ...}
+  std::vector<fit::Observation> observations;
+  std::vector<std::string> observation_where;  // "/fit/observations/3" or "obs.csv:12"
+  bool observations_from_csv = false;
+  fit::FitOptions options;
+  bool periodic = false;
+  fit::PeriodicOptions periodic_options;
+  double period = 0, phase = 0;
+};
+
+// Thrown for bad CSV input (already "file:line: message").
+// (An InputError: one line, control characters from the file escaped. Catch it before InputError where the two are
+// reported differently.)
+struct CsvError : InputError {
+  using InputError::InputError;
+};
+
+// Reads a fit file: the scene, the unknowns, the observations (inline or from a CSV file beside it), the solver.
+// Throws InputError (naming the file and the JSON path) or CsvError (naming the CSV file and line).
+FitSpec read_fit_file(const std::string& file);
+FitSpec parse_fit_document(const json& document, const std::string& file);
+
+// The bytes of an `lgi run`-style CSV (`path` for messages): a header row, then rows of finite numbers; a UTF-8 byte
+// order mark, CR line ends and blank lines are accepted. rows[i] was on line lines[i]. Throws CsvError.
+void parse_observation_csv(const std::string& text, const std::string& path, std::vector<std::string>& header,
+                           std::vector<std::vector<double>>& rows, std::vector<int>& lines);
+
+// The JSON path (or CSV line) of a FitInputError's field ("observations[3].t", "unknowns[1].name", ...).
+std::string where_of(const std::string& field, const FitSpec& spec);
+
+}  // namespace lgi::app
