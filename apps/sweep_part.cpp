@@ -6,6 +6,8 @@
 #include "sweep_file.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cstdint>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -13,6 +15,8 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <vector>
 
 namespace lgi::app {
@@ -77,6 +81,32 @@ std::string verify_part(const std::string& file) {
 }
 
 
+namespace {
+
+// "# lgi sweep shard i/N: M members, sweep HASH, lgi VERSION": i, N and M, with 0 ≤ i < N < 10⁹ (what --shard
+// accepts) and 1 ≤ M ≤ max_members; false for anything else.
+bool parse_shard_line(const std::string& line, std::int64_t& i, std::int64_t& n, std::int64_t& members) {
+  const char* p = line.data();
+  const char* end = line.data() + line.size();
+  const auto literal = [&](std::string_view s) {
+    if (static_cast<std::size_t>(end - p) < s.size() || std::string_view(p, s.size()) != s) return false;
+    p += s.size();
+    return true;
+  };
+  const auto number = [&](std::int64_t& x, std::int64_t lo, std::int64_t hi) {
+    if (p == end || *p < '0' || *p > '9') return false;
+    const auto r = std::from_chars(p, end, x);
+    if (r.ec != std::errc() || x < lo || x > hi) return false;
+    p = r.ptr;
+    return true;
+  };
+  constexpr std::int64_t max_shards = 999'999'999;
+  return literal("# lgi sweep shard ") && number(i, 0, max_shards) && literal("/") && number(n, 1, max_shards) &&
+         i < n && literal(": ") && number(members, 1, max_members) && literal(" members, sweep ");
+}
+
+}  // namespace
+
 int merge_command(const MergeCommandOptions& options) {
   if (options.output.empty()) return fail(exit_bad_input, "merge: -o FILE is required");
   if (options.parts.empty()) return fail(exit_bad_input, "merge: give the part files of a sweep (lgi sweep --shard)");
@@ -100,10 +130,8 @@ int merge_command(const MergeCommandOptions& options) {
     p.in = std::make_unique<std::ifstream>(file, std::ios::binary);
     if (!*p.in) return fail(exit_bad_input, file + ": cannot read the part file: " + std::strerror(errno));
     std::getline(*p.in, p.line);
-    char hash[32] = {};
-    long long i = 0, n = 0, members = 0;
-    if (std::sscanf(p.line.c_str(), "# lgi sweep shard %lld/%lld: %lld members, sweep %16s", &i, &n, &members, hash) != 4 ||
-        n < 1 || i < 0 || i >= n || members < 1)
+    std::int64_t i = 0, n = 0, members = 0;
+    if (!parse_shard_line(p.line, i, n, members))
       return fail(exit_bad_input, file + ":1: not a part file of lgi sweep --shard (expected \"# lgi sweep shard i/N: ...\")");
     p.i = i;
     p.n = n;
@@ -129,9 +157,12 @@ int merge_command(const MergeCommandOptions& options) {
   const std::int64_t n = parts.front().n, members = parts.front().members;
   if (static_cast<std::int64_t>(parts.size()) != n) {
     std::string missing;
-    for (std::int64_t i = 0; i < n; ++i)
-      if (std::none_of(parts.begin(), parts.end(), [&](const Part& p) { return p.i == i; }))
+    int listed = 0;  // the first few (N may be large: --shard 0/1000000 of a small sweep is a valid part)
+    for (std::int64_t i = 0; i < n && listed < 10; ++i)
+      if (std::none_of(parts.begin(), parts.end(), [&](const Part& p) { return p.i == i; })) {
         missing += (missing.empty() ? "" : ", ") + std::to_string(i) + "/" + std::to_string(n);
+        if (++listed == 10 && static_cast<std::int64_t>(parts.size()) + 10 < n) missing += ", ...";
+      }
     return fail(exit_bad_input, "merge: shard " + missing + " of the sweep in " + parts.front().file + " is missing");
   }
   std::sort(parts.begin(), parts.end(), [](const Part& a, const Part& b) { return a.i < b.i; });

@@ -525,7 +525,7 @@ TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {
   struct Case {
     std::string parts, message;
   };
-  const std::vector<Case> cases = {
+  std::vector<Case> cases = {
       {p("a0.csv") + p("a2.csv"), "merge: shard 1/3 of the sweep in " + p("a0.csv").substr(0, p("a0.csv").size() - 1) +
                                       " is missing"},
       {p("a0.csv") + p("a1.csv") + p("a1.csv"), p("a1.csv").substr(0, p("a1.csv").size() - 1) + ": shard 1/3 again"},
@@ -535,6 +535,19 @@ TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {
       {p("serial.csv"), "serial.csv:1: not a part file of lgi sweep --shard"},
       {p("a0.csv") + p("nothere.csv"), "nothere.csv: cannot read the part file"},
   };
+  // A shard count beyond what --shard writes (found by the part fuzzer: the list of missing shards never ended), and
+  // the largest it writes, with one part of a billion: refused at once, the missing ones listed up to ten.
+  {
+    std::string huge = read("a0.csv");
+    huge.replace(huge.find("0/3:"), 4, "0/3333333333333333331:");
+    write("huge.csv", resign(without_last_lines(huge, 1)));
+    std::string many = read("a0.csv");
+    many.replace(many.find("0/3:"), 4, "0/999999999:");
+    write("many.csv", resign(without_last_lines(many, 1)));
+  }
+  cases.push_back({p("huge.csv"), "huge.csv:1: not a part file of lgi sweep --shard"});
+  cases.push_back({p("many.csv"), "merge: shard 1/999999999, 2/999999999, 3/999999999, 4/999999999, 5/999999999, "
+                                  "6/999999999, 7/999999999, 8/999999999, 9/999999999, 10/999999999, ... of the sweep in"});
   for (const Case& c : cases) {
     SCOPED_TRACE(c.parts);
     const CommandResult r = lgi("merge " + c.parts + "-o " + (dir_ / "merged.csv").string());
