@@ -39,6 +39,8 @@
 #ifdef LGI_HAVE_FIT
 #include "fit_file.hpp"
 #include "fit_instances.hpp"
+
+#include <glog/logging.h>
 #endif
 
 #include <algorithm>
@@ -87,6 +89,7 @@ json result_json(const FitSpec& spec, const fit::FitResult<P>& r, const std::str
   if (spec.periodic) out["steps"] = spec.periodic_options.steps;
   else out["dt"] = spec.scene.dt;
   out["usable"] = r.usable;
+  if (r.budget_exhausted) out["budget_exhausted"] = true;
   out["termination"] = r.termination_type;
   out["message"] = r.message;
   out["iterations"] = r.iterations;
@@ -189,6 +192,7 @@ std::string unusable_reason(const FitSpec& spec, const fit::FitResult<P>& r) {
   if (spec.periodic)
     return "the periodicity residual " + format_number(r.max_residual) + " is above the tolerance " +
            format_number(spec.periodic_options.tolerance);
+  if (r.budget_exhausted) return "stopped by /limits/max_wall_seconds";
   if (r.termination != ceres::CONVERGENCE)
     return "the solver did not converge (" + r.termination_type + ": " + r.message + ")";
   if (!std::isfinite(r.final_cost)) return "the final cost is not finite";
@@ -221,6 +225,9 @@ constexpr std::string_view fit_problems = "free_body, heavy_top";
 }  // namespace
 
 int fit_command(const FitCommandOptions& options) {
+  // Ceres logs through glog to stderr (a rank-deficient covariance, a failed evaluation when a budget stops the
+  // fit): what matters of it is in the one-line verdict; -v shows it.
+  if (!options.verbose) FLAGS_minloglevel = google::GLOG_FATAL;
   const std::string& file = options.fit_file;
   FitSpec spec;
   try {
@@ -251,7 +258,7 @@ int fit_command(const FitCommandOptions& options) {
 
   json result;
   std::string report, full_report, reason;
-  bool usable = false;
+  bool usable = false, budget = false;
   try {
     const bool offered = std::visit(
         [&](const auto& problem) {
@@ -263,6 +270,7 @@ int fit_command(const FitCommandOptions& options) {
             report = brief(spec, r, file);
             full_report = r.full_report;
             usable = r.usable;
+            budget = r.budget_exhausted;
             if (!usable) reason = unusable_reason(spec, r);
             return true;
           } else {
@@ -290,6 +298,10 @@ int fit_command(const FitCommandOptions& options) {
     return fail(exit_io_error, out->display_name() + ": cannot write the result: " + out->error_text());
   if (options.verbose) std::fputs(full_report.c_str(), stderr);
   if (!options.quiet) std::fputs(report.c_str(), stderr);
+  if (budget)
+    return fail(exit_run_stopped, file + ": stopped by /limits/max_wall_seconds = " +
+                                      format_number(spec.scene.max_wall_seconds) + ": the solution is not usable (result "
+                                      "written to " + out->display_name() + ", \"usable\": false)");
   if (!usable)
     return fail(exit_fit_unusable, file + ": the solution is not usable: " + reason + " (result written to " +
                                        out->display_name() + ", \"usable\": false)");

@@ -264,6 +264,11 @@ FitSpec parse_fit_document(const json& document, const std::string& file) {
   spec.options.dt = spec.scene.dt;
   spec.options.t_end = spec.scene.t_end;
   spec.options.stepper = spec.scene.options;
+  // limits.max_wall_seconds is the fit's budget (the solver's and every integration's); max_steps is a run's.
+  spec.options.solver.max_seconds = spec.periodic_options.solver.max_seconds = spec.scene.max_wall_seconds;
+  if (spec.scene.max_steps > 0)
+    root.at("limits").at("max_steps").fail("a fit's integrations take the steps its data need: use "
+                                           "/limits/max_wall_seconds or /fit/solver/max_iterations to bound a fit");
   spec.periodic_options.stepper = spec.scene.options;
   return spec;
 }

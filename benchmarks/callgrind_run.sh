@@ -7,7 +7,8 @@
 #   ADAPTIVE="rkmk_vern9_cayley" ...     methods run adaptively (rtol = atol = 1e-10), per accepted step
 #
 # Each figure is (Ir(N2) − Ir(N1)) / (steps(N2) − steps(N1)) of `valgrind --tool=callgrind LGI_EXE run SCENE -o
-# /dev/null`: start-up, loading and the summary cancel in the difference. Fixed steps: t_end = N·dt; adaptive runs:
+# FILE` (a file, not /dev/null: lgi before 0.1.0's reliability fixes replaced /dev/null by its output file): start-up,
+# loading and the summary cancel in the difference. Fixed steps: t_end = N·dt; adaptive runs:
 # t_end = N·dt with dt the first step, and the steps are the accepted ones the summary reports. Ir is the
 # "totals:" line of callgrind's out file. Prints a markdown table.
 set -euo pipefail
@@ -35,7 +36,7 @@ scene() {  # scene PROBLEM METHOD N ADAPTIVE
 
 # run SCENE_FILE: "instructions steps"
 run() {
-  valgrind --tool=callgrind --callgrind-out-file="$tmp/cg" "$exe" run "$1" -o /dev/null 2> "$tmp/err" ||
+  valgrind --tool=callgrind --callgrind-out-file="$tmp/cg" "$exe" run "$1" -o "$tmp/out.csv" 2> "$tmp/err" ||
     { echo "callgrind_run.sh: $1 failed:" >&2; cat "$tmp/err" >&2; exit 1; }
   local steps
   steps=$(sed -n 's/^  steps *\([0-9]*\) to t.*/\1/p' "$tmp/err")

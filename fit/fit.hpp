@@ -44,6 +44,10 @@ struct SolverOptions {
   double parameter_tolerance = 1e-12;  // Ceres: stop when |Δθ| < this (|θ| + this)
   int num_threads = 1;
   bool progress = false;               // Ceres' per-iteration table on stdout
+  // A wall-clock budget for the whole fit (continuation stages included), seconds; 0: none. When it is spent the
+  // integration under way stops within 1024 steps, the solver stops, and the result is not usable
+  // (FitResult::budget_exhausted).
+  double max_seconds = 0;
 };
 
 struct FitOptions {
@@ -106,6 +110,7 @@ struct FitResult {
   // P(χ²_ν ≥ chi_square) (regularised upper incomplete gamma Q(ν/2, χ²/2)) where the goodness-of-fit test applies
   // (observations without robust losses, ν > 0); −1 where it does not.
   double p_value = -1;
+  bool budget_exhausted = false;            // SolverOptions::max_seconds ran out (the result is not usable)
   long integrations = 0;                    // integrations run (one per Jet pass)
   double seconds = 0;                       // wall time of the solve
   std::string report;                       // Ceres' BriefReport
@@ -255,17 +260,30 @@ FitResult<P> collect(Model<Method, P, N>& model, ceres::Problem& problem, const 
 }
 
 // Builds the Ceres problem of `model`, solves it and collects the result (the caller sets `usable`).
+using Clock = std::chrono::steady_clock;
+
+// The instant a budget of `seconds` from now ends (none: the far future).
+inline Clock::time_point deadline_after(double seconds) {
+  return seconds > 0 ? Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds))
+                     : Clock::time_point::max();
+}
+
 template <template <class> class Method, RigidBodyProblem P, int N>
-FitResult<P> solve(Model<Method, P, N>& model, const SolverOptions& solver, bool covariance) {
+FitResult<P> solve(Model<Method, P, N>& model, const SolverOptions& solver, bool covariance, Clock::time_point deadline) {
   ceres::Problem::Options po;
   po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem cp(po);
   model.add_to(cp);
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   ceres::Solver::Summary summary;
-  ceres::Solve(solver_options(solver), &cp, &summary);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return collect(model, cp, summary, covariance, seconds);
+  ceres::Solver::Options o = solver_options(solver);
+  if (deadline != Clock::time_point::max())
+    o.max_solver_time_in_seconds = std::max(0.0, std::chrono::duration<double>(deadline - start).count());
+  ceres::Solve(o, &cp, &summary);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  FitResult<P> res = collect(model, cp, summary, covariance && Clock::now() < deadline, seconds);
+  res.budget_exhausted = Clock::now() >= deadline;
+  return res;
 }
 
 }  // namespace detail
@@ -274,9 +292,28 @@ FitResult<P> solve(Model<Method, P, N>& model, const SolverOptions& solver, bool
 // the unknowns, the fixed values of the rest); Method is any of the library's stepper templates (lgvi: Lgvi,
 // rkmk4: Rkmk4, ...) used with the fixed step options.dt; N the Jet size (derivatives are computed in passes
 // of N tangent coordinates). Throws FitInputError (a std::invalid_argument) on bad input.
+namespace detail {
+
+template <template <class> class Method, int N, RigidBodyProblem P>
+FitResult<P> fit_observations_until(const P& problem, const State<double>& initial, std::span<const Unknown> unknowns,
+                                    std::span<const Observation> observations, const FitOptions& options,
+                                    Clock::time_point deadline);
+
+}  // namespace detail
+
 template <template <class> class Method, int N = 8, RigidBodyProblem P>
 FitResult<P> fit_observations(const P& problem, const State<double>& initial, std::span<const Unknown> unknowns,
                               std::span<const Observation> observations, const FitOptions& options) {
+  return detail::fit_observations_until<Method, N>(problem, initial, unknowns, observations, options,
+                                                   detail::deadline_after(options.solver.max_seconds));
+}
+
+namespace detail {
+
+template <template <class> class Method, int N, RigidBodyProblem P>
+FitResult<P> fit_observations_until(const P& problem, const State<double>& initial, std::span<const Unknown> unknowns,
+                                    std::span<const Observation> observations, const FitOptions& options,
+                                    Clock::time_point deadline) {
   if (!options.continuation.empty()) {
     check_observations(observations, options.t_end < 0 ? std::numeric_limits<double>::max() : options.t_end);
     double previous = 0;
@@ -296,8 +333,8 @@ FitResult<P> fit_observations(const P& problem, const State<double>& initial, st
       std::size_t n = 0;
       while (n < observations.size() && observations[n].t <= t_cut) ++n;
       if (n == 0) continue;
-      const FitResult<P> r = fit_observations<Method, N>(p, x, unknowns, observations.first(n), stage);
-      if (!std::isfinite(r.final_cost)) break;
+      const FitResult<P> r = fit_observations_until<Method, N>(p, x, unknowns, observations.first(n), stage, deadline);
+      if (!std::isfinite(r.final_cost) || r.budget_exhausted) break;
       p = r.problem;
       x = r.initial;
       integrations += r.integrations;
@@ -306,7 +343,7 @@ FitResult<P> fit_observations(const P& problem, const State<double>& initial, st
     }
     FitOptions last = options;
     last.continuation.clear();
-    FitResult<P> res = fit_observations<Method, N>(p, x, unknowns, observations, last);
+    FitResult<P> res = fit_observations_until<Method, N>(p, x, unknowns, observations, last, deadline);
     res.integrations += integrations;
     res.iterations += iterations;
     res.seconds += seconds;
@@ -317,8 +354,9 @@ FitResult<P> fit_observations(const P& problem, const State<double>& initial, st
   mo.dt = options.dt;
   mo.t_end = options.t_end;
   mo.stepper = options.stepper;
+  mo.deadline = deadline;
   Model<Method, P, N> model(problem, initial, unknowns, observations, mo);
-  FitResult<P> res = detail::solve(model, options.solver, options.compute_covariance);
+  FitResult<P> res = detail::solve(model, options.solver, options.compute_covariance, deadline);
   const bool robust = std::any_of(observations.begin(), observations.end(),
                                   [](const Observation& o) { return o.loss != Loss::none; });
   if (!robust && res.degrees_of_freedom > 0 && std::isfinite(res.chi_square)) {
@@ -328,11 +366,13 @@ FitResult<P> fit_observations(const P& problem, const State<double>& initial, st
       res.p_value = res.chi_square > res.degrees_of_freedom ? 0.0 : 1.0;
     }
   }
-  res.usable = res.termination == ceres::CONVERGENCE && std::isfinite(res.final_cost) &&
+  res.usable = res.termination == ceres::CONVERGENCE && std::isfinite(res.final_cost) && !res.budget_exhausted &&
                (!options.compute_covariance || res.covariance_ok) &&
                (res.p_value < 0 || res.p_value >= options.min_p_value);
   return res;
 }
+
+}  // namespace detail
 
 // Finds a periodic orbit near the guess (problem, initial, period): the unknowns are listed as for
 // fit_observations, plus "period" and, for the about_k symmetry, "phase" (φ, rad; guess `phase`).
@@ -344,9 +384,10 @@ FitResult<P> fit_periodic(const P& problem, const State<double>& initial, double
   mo.steps = options.steps;
   mo.stepper = options.stepper;
   mo.symmetry = options.symmetry;
+  mo.deadline = detail::deadline_after(options.solver.max_seconds);
   Model<Method, P, N> model(problem, initial, unknowns, {}, mo, period, phase);
-  FitResult<P> res = detail::solve(model, options.solver, false);
-  res.usable = std::isfinite(res.final_cost) && res.max_residual <= options.tolerance;
+  FitResult<P> res = detail::solve(model, options.solver, false, mo.deadline);
+  res.usable = std::isfinite(res.final_cost) && res.max_residual <= options.tolerance && !res.budget_exhausted;
   return res;
 }
 

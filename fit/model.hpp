@@ -45,6 +45,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -117,6 +118,9 @@ struct ModelOptions {
   int steps = 0;                // periodic: the number of steps over the period
   StepperOptions stepper;
   PeriodicSymmetry symmetry = PeriodicSymmetry::automatic;
+  // After this instant every integration stops at its next monitor call (every 1024 steps) and its residual
+  // evaluation fails: a wall-clock budget that a long arc cannot overrun by more than 1024 steps.
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
 template <template <class> class Method, RigidBodyProblem P, int N>
@@ -287,6 +291,11 @@ class Model {
     return s;
   }
 
+  // The monitor of every integration: false (stop) once the deadline has passed.
+  auto in_time() const {
+    return [deadline = options_.deadline](std::int64_t) { return std::chrono::steady_clock::now() < deadline; };
+  }
+
   // The states at the observation times (one run from t = 0); false when the run failed or left a
   // non-finite value or derivative.
   template <class T>
@@ -299,7 +308,7 @@ class Model {
     out.reserve(times_.size() + 1);
     const IntegrationSummary summary =
         integrate_times(stepper, x, T(0), T(options_.dt), std::span<const T>(times),
-                        [&](const T&, const State<T>& xs) { out.push_back(xs); });
+                        [&](const T&, const State<T>& xs) { out.push_back(xs); }, in_time());
     if (summary.status != RunStatus::completed) return false;
     if (times_.front() != 0) out.erase(out.begin());  // t = 0 is always observed
     if (out.size() != times_.size()) return false;
@@ -315,7 +324,7 @@ class Model {
     Method<rebind_problem_t<P, T>> stepper(s.problem, options_.stepper);
     State<T> x = s.x0;
     const T h = s.period / T(static_cast<double>(options_.steps));
-    const IntegrationSummary summary = integrate_to(stepper, x, T(0), h, s.period);
+    const IntegrationSummary summary = integrate_to(stepper, x, T(0), h, s.period, NoObserver{}, in_time());
     if (summary.status != RunStatus::completed || !is_finite(x)) return false;
     int n = 0;
     if (options_.symmetry != PeriodicSymmetry::body_omega) {

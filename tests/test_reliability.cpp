@@ -657,6 +657,43 @@ TEST_F(ReliabilityFit, NulBytesInAMessageDoNotCutIt) {
   EXPECT_NE(r.err.find("ob\\u0000s_and_more.csv"), std::string::npos) << r.err;
 }
 
+// A fit's wall-clock budget (limits.max_wall_seconds) holds within 0.5 s: the example fit at dt = 1e-5 (10^6 steps an
+// arc, with Jets for every Jacobian) takes 3.1 s unbudgeted.
+TEST_F(ReliabilityFit, WallClockBudgetStopsAFitWithinHalfASecond) {
+  nlohmann::json truth = nlohmann::json::parse(slurp(dir_ / "truth.json"));
+  truth["integrator"]["dt"] = 1e-5;
+  truth["output"]["every"] = 20000;
+  write("truth.json", truth.dump());
+  ASSERT_EQ(run({"run", p("truth.json"), "-q", "-o", p("obs.csv")}).status, 0);
+  const fs::path fit = fit_file([](nlohmann::json& j) {
+    j["integrator"]["dt"] = 1e-5;
+    j["limits"] = {{"max_wall_seconds", 0.3}};
+  });
+  const Proc r = run({"fit", fit.string(), "-o", p("result.json"), "-q"});
+  EXPECT_EQ(r.status, 6) << r.err;
+  EXPECT_TRUE(one_line(r.err)) << r.err;
+  EXPECT_NE(r.err.find("stopped by /limits/max_wall_seconds = 0.3"), std::string::npos) << r.err;
+  EXPECT_LE(r.seconds, 0.3 + 0.5);
+  const nlohmann::json result = nlohmann::json::parse(slurp(dir_ / "result.json"));
+  EXPECT_FALSE(result["usable"].get<bool>());
+}
+
+// A rank-deficient fit (a free body's three moments: only their ratios are observable) says so in one line, without
+// Ceres' log lines on stderr.
+TEST_F(ReliabilityFit, RankDeficientFitSaysSoInOneLine) {
+  write("truth.json", R"({"problem": {"type": "free_body", "inertia": [1, 2, 3]}, "initial": {"omega": [1, 0.2, 0.3]},
+    "integrator": {"method": "lgvi", "dt": 0.01}, "t_end": 5, "output": {"every": 20}})");
+  ASSERT_EQ(run({"run", p("truth.json"), "-q", "-o", p("obs.csv")}).status, 0);
+  const fs::path fit = write("fit.json", R"({"problem": {"type": "free_body", "inertia": [1.1, 2, 3]},
+    "initial": {"omega": [1, 0.2, 0.3]}, "integrator": {"method": "lgvi", "dt": 0.01}, "t_end": 5,
+    "fit": {"unknowns": ["initial.omega", "problem.inertia"],
+            "observations": {"csv": "obs.csv", "sigma_attitude": 1e-3, "sigma_omega": 1e-2}}})");
+  const Proc r = run({"fit", fit.string(), "-o", p("result.json"), "-q"});
+  EXPECT_EQ(r.status, 5) << r.err;
+  EXPECT_TRUE(one_line(r.err)) << r.err;
+  EXPECT_NE(r.err.find("rank deficient"), std::string::npos) << r.err;
+}
+
 TEST_F(ReliabilityFit, ObservationTableWithAByteOrderMarkIsRead) {
   write("obs.csv", "\xEF\xBB\xBF" + slurp(dir_ / "obs.csv"));
   const Proc r = run({"fit", fit_file().string(), "-o", p("result.json"), "-q"});
