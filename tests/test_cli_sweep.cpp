@@ -4,6 +4,7 @@
 // values (a completed member and one whose step fails mid-run); --threads 1/2/3 and --shard i/3 + merge give the
 // serial run's bytes; bad sweep files, shard specs and part sets end in exit 1, one line naming the problem, no
 // output file.
+#include "../apps/hashing.hpp"
 #include "lgi_process.hpp"
 
 #include <gtest/gtest.h>
@@ -501,14 +502,7 @@ std::string without_last_lines(std::string text, int n) {
 // The part's check line (apps/sweep_part.hpp) for `body`, appended: a part edited on purpose, to reach the checks
 // behind the hash.
 std::string resign(const std::string& body) {
-  std::uint64_t h = 14695981039346656037ull;
-  for (const unsigned char c : body) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  char line[64];
-  std::snprintf(line, sizeof line, "# lgi sweep part end: fnv1a64 %016llx\n", static_cast<unsigned long long>(h));
-  return body + line;
+  return body + "# lgi sweep part end: fnv1a64 " + lgi::app::hex64(lgi::app::fnv1a(body)) + "\n";
 }
 
 TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {

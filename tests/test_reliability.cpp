@@ -13,6 +13,7 @@
 //   - `lgi fit` refuses observation tables missing a declared column and calls a fit that does not explain the
 //     data not usable;
 //   - one-line errors for the command line, NUL bytes, overflowing inertia; a 250-byte output name; a BOM.
+#include "../apps/hashing.hpp"
 #include "lgi_process.hpp"
 
 #include <fcntl.h>
@@ -470,14 +471,7 @@ TEST_F(ReliabilityCheckpoint, ResignedChangesAreCheckedAgainstTheScene) {
     std::string text = j.dump(1);
     text.resize(text.size() - 2);
     text += ",\n";
-    std::uint64_t h = 14695981039346656037ull;
-    for (const unsigned char c : text) {
-      h ^= c;
-      h *= 1099511628211ull;
-    }
-    char buf[64];
-    std::snprintf(buf, sizeof buf, " \"checksum\": \"fnv1a64:%016llx\"\n}\n", static_cast<unsigned long long>(h));
-    return text + buf;
+    return text + " \"checksum\": \"fnv1a64:" + lgi::app::hex64(lgi::app::fnv1a(text)) + "\"\n}\n";
   };
   const nlohmann::ordered_json good = nlohmann::ordered_json::parse(ck_);
   ASSERT_EQ(resign(good), ck_) << "the test's checksum is the checkpoint's";
@@ -580,6 +574,18 @@ TEST_F(Reliability, BudgetAndSignalAreSeenWithinHalfASecondOfSlowSteps) {
   EXPECT_EQ(t.status, 128 + SIGTERM) << t.err;
   EXPECT_LE(t.after_signal, 0.5) << t.err;
   expect_whole_rows(slurp(dir_ / "t.csv"));
+}
+
+// A sweep of such members, two threads: SIGTERM stops it within 0.5 s, nothing written.
+TEST_F(Reliability, SweepStopsWithinHalfASecondOfSigterm) {
+  const fs::path sweep = write("slow.json", R"({"problem":{"type":"free_body","inertia":[1,2,3]},
+    "initial":{"omega":[0,8e7,0]}, "integrator":{"method":"split_dmv","dt":0.01}, "t_end":100,
+    "sweep": {"grid": {"/initial/omega/0": [0, 1, 2, 3]}}})");
+  const Proc r = run({"sweep", sweep.string(), "-o", p("s.csv"), "--threads", "2", "-q"}, {}, {}, 0.5);
+  EXPECT_EQ(r.status, 128 + SIGTERM) << r.err;
+  EXPECT_LE(r.after_signal, 0.5) << r.err;
+  EXPECT_TRUE(one_line(r.err)) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "s.csv"));
 }
 
 // ---- 9. lgi fit: declared observation types are complete, and "usable" means the data are explained -------------
