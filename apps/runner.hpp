@@ -9,7 +9,7 @@
 // far and a last row with the last good state (RunReport::final_row; not repeated when it is the last row
 // written); a row with a column that is not finite is never written (RunReport::rows_not_finite). With
 // RunOptions::checkpoint_path, checkpoints (runner_checkpoint.hpp) are written periodically and where a signal
-// or a budget stops the run, and RunOptions::resume continues one bit for bit (runner_drive.hpp).
+// or a budget stops the run, and RunOptions::resume continues one bit for bit (core/driver.hpp's cursor).
 // docs/checkpoints.md has the whole contract.
 //
 // In-run observation (RunOptions::observer; `lgi sweep`'s extrema, Poincaré crossings and Lyapunov estimates,

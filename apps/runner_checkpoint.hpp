@@ -27,6 +27,7 @@
 
 #include "json_reader.hpp"
 
+#include <lgi/core/driver.hpp>
 #include <lgi/core/integrator.hpp>
 
 #include <Eigen/Core>
@@ -41,22 +42,8 @@
 
 namespace lgi::app {
 
-// Where a driver is (runner_drive.hpp): enough to continue a run bit for bit, with the stepper's state.
-struct Cursor {
-  bool adaptive = false;
-  std::int64_t steps = 0;  // steps taken: fixed — grid and output side-steps; adaptive — accepted steps
-  // fixed steps
-  std::int64_t n = 0;      // grid index: the state is at t = n·dt
-  std::int64_t event = 0;  // index of the next output event (runner_drive.hpp, GridEvents)
-  // adaptive steps (integrators/adaptive.hpp)
-  double t = 0;                     // time of the state
-  double h = 0;                     // the next trial step
-  double err_old = 1e-4;            // the error of the last accepted step (PI controller)
-  bool rejected_last = false;       // the last trial was rejected: the next accepted step may not grow
-  StepStatus cause = StepStatus::step_size_underflow;  // what drove h down (reported on underflow)
-  std::int64_t attempts = 0, rejected = 0;
-  std::int64_t next = 0;            // index of the next requested output time
-};
+// Where a driver is: enough to continue a run bit for bit, with the stepper's state (core/driver.hpp).
+using Cursor = lgi::Cursor<double>;
 
 // Where the rows of a run are.
 struct CheckpointOutput {

@@ -4,7 +4,6 @@
 #pragma once
 
 #include "runner_detail.hpp"
-#include "runner_drive.hpp"
 
 #include <lgi/core/invariants.hpp>
 #include <lgi/integrators/adaptive.hpp>
@@ -104,7 +103,7 @@ class Observation final : public StepAccess {
   bool shadow_active_ = false, shadow_ok_ = false;
 };
 
-// One invocation of a run, fresh or resumed, through the drivers of runner_drive.hpp: rows at the output times
+// One invocation of a run, fresh or resumed, through the library's drivers (drive_grid, drive_adaptive): rows at the output times
 // (row(t, y), y nullptr for the initial state), the monitor (signals, wall-clock budget, flushing, periodic
 // checkpoints), and where the run ends early — a failed step, a signal, a budget — a checkpoint (signal or budget,
 // when asked for) and a last row with the last good state. S: a Stepper, or an AdaptiveStepper when the scene
@@ -159,16 +158,16 @@ bool run_session(S& stepper, typename S::Internal& y, const Scene& scene, const 
   } else {
     row(0.0, static_cast<const Internal*>(nullptr));
     if (adaptive) {
-      c = adaptive_start(scene.dt, adaptive_options);
+      c = adaptive_start(0.0, scene.dt, adaptive_options);
       while (static_cast<std::size_t>(c.next) < times.size() && times[static_cast<std::size_t>(c.next)] == 0.0) ++c.next;
     }
   }
   if (options.resume) {  // the fixed-step cursor against the output events: checked by the drive below, first
     if (!adaptive) {
       const bool ok = !scene.output_times.empty() && !observing
-                          ? GridEvents(std::span<const double>(times), scene.dt).accepts(c.n, c.event)
-                          : GridEvents(observing ? 1 : scene.output_every > 0 ? scene.output_every : std::int64_t{1} << 62,
-                                       scene.t_end, scene.dt)
+                          ? GridEvents<double>(std::span<const double>(times), 0.0, scene.dt).accepts(c.n, c.event)
+                          : GridEvents<double>(observing ? 1 : scene.output_every > 0 ? scene.output_every : std::int64_t{1} << 62,
+                                               0.0, scene.t_end, scene.dt)
                                 .accepts(c.n, c.event);
       if (!ok)
         throw InputError(options.resume_path + ": /cursor/event: output event " + std::to_string(c.event) +
@@ -194,20 +193,26 @@ bool run_session(S& stepper, typename S::Internal& y, const Scene& scene, const 
     if (ok) session.checkpointed(at.steps);
     return ok;
   };
-  // The steps to the next call, or 0 to stop (runner_drive.hpp).
-  const auto monitor = [&](const Cursor& at, const Internal& z) -> std::int64_t {
-    switch (session.check(at.steps)) {
-      case SessionMonitor::Action::stop: return 0;
-      case SessionMonitor::Action::checkpoint:
-        if (!checkpoint(at, z)) {  // the first failed write stops the run; the last checkpoint stays
-          session.stop(StopReason::write_failed);
-          return 0;
-        }
-        break;
-      case SessionMonitor::Action::proceed: break;
+  // The drivers' monitor (core/driver.hpp, DriveMonitor): after the first step, then after the steps it returns; 0
+  // stops the run.
+  struct {
+    SessionMonitor& session;
+    decltype(checkpoint)& write;
+    std::int64_t first(const Cursor&) const { return 1; }
+    std::int64_t operator()(const Cursor& at, const Internal& z) {
+      switch (session.check(at.steps)) {
+        case SessionMonitor::Action::stop: return 0;
+        case SessionMonitor::Action::checkpoint:
+          if (!write(at, z)) {  // the first failed write stops the run; the last checkpoint stays
+            session.stop(StopReason::write_failed);
+            return 0;
+          }
+          break;
+        case SessionMonitor::Action::proceed: break;
+      }
+      return session.stride();
     }
-    return session.stride();
-  };
+  } monitor{session, checkpoint};
 
   IntegrationSummary summary;
   bool moved = false;
@@ -216,23 +221,23 @@ bool run_session(S& stepper, typename S::Internal& y, const Scene& scene, const 
   if constexpr (can_adapt) {
     if (adaptive) {
       const std::int64_t budget = scene.max_steps > 0 ? scene.max_steps : adaptive_options.max_steps;
-      halt = drive_adaptive(stepper, y, std::span<const double>(times), adaptive_options, start.attempts + budget, c,
-                            summary, moved, row, monitor);
+      halt = drive_adaptive(stepper, y, std::span<const double>(times), std::abs(scene.t_end), adaptive_options,
+                            start.attempts + budget, c, summary, moved, row, monitor);
     }
   }
   if (!adaptive) {
     const std::int64_t limit =
         scene.max_steps > 0 ? start.steps + scene.max_steps : std::numeric_limits<std::int64_t>::max();
-    const auto drive = [&](const GridEvents& events) {
-      return drive_grid(stepper, y, scene.dt, events, limit, c, summary, moved, row, monitor);
+    const auto drive = [&](const GridEvents<double>& events) {
+      return drive_grid(stepper, y, 0.0, scene.dt, events, limit, c, summary, moved, row, monitor);
     };
     if (!scene.output_times.empty() && !observing) {
-      halt = drive(GridEvents(std::span<const double>(times), scene.dt));
+      halt = drive(GridEvents<double>(std::span<const double>(times), 0.0, scene.dt));
     } else {
       const std::int64_t every = observing               ? 1
                                  : scene.output_every > 0 ? scene.output_every
                                                           : std::int64_t{1} << 62;
-      halt = drive(GridEvents(every, scene.t_end, scene.dt));
+      halt = drive(GridEvents<double>(every, 0.0, scene.t_end, scene.dt));
     }
   }
   report.wall_seconds = std::chrono::duration<double>(Clock::now() - clock_start).count();
@@ -337,34 +342,15 @@ RunReport dispatch(const P& problem, const Scene& scene, const RunOptions& optio
   return report;
 }
 
-// The seed paper's Euler-angle top (problems/euler_angle_top.hpp): its state (φ, θ, ψ, φ', θ', m_ψ) is not
-// on SO(3), so it runs on its own path — the scene's RKMK tableau as plain Runge–Kutta on the angles
-// (integrators/euclidean_rk.hpp, apps/problems_paper.hpp) — with the standard columns (R by (6.3), Ω from
-// the angle rates, the total energy) and the problem's own. A step that takes sin θ below min_sin_theta
-// ends the run (status `stopped`, a warning with the time on stderr, the last admissible state kept).
-// The Euler-angle top's Runge–Kutta stepper as a Stepper of the runner's drivers: a step whose result leaves
-// the domain (sin θ < min_sin_theta) fails, the state untouched, and says so (left, t_outside); the library's
-// drive_euclidean makes the same test on the same trial step.
+// The Euler-angle top's Runge–Kutta stepper for the drivers: the library's domain-checked step
+// (CheckedEuclideanStep: a step whose result leaves sin θ ≥ min_sin_theta fails, the state untouched, and says so)
+// with the problem's map to (R, Ω) for rows and observers.
 template <const auto& Tableau>
-struct EulerAngleSteps {
-  using Internal = EulerAngleTop<double>::Vector;
-  const EuclideanRk<Tableau, EulerAngleTop<double>>& rk;
+struct EulerAngleSteps : CheckedEuclideanStep<EuclideanRk<Tableau, EulerAngleTop<double>>> {
+  EulerAngleSteps(const EuclideanRk<Tableau, EulerAngleTop<double>>& rk, const EulerAngleTop<double>& p)
+      : CheckedEuclideanStep<EuclideanRk<Tableau, EulerAngleTop<double>>>(rk), problem(p) {}
   const EulerAngleTop<double>& problem;
-  bool left = false;
-  double t_outside = 0;
-  StepStatus step(Internal& y, double t, double h) {
-    Internal trial = y;
-    const StepStatus status = rk.step(trial, t, h);
-    if (status != StepStatus::ok) return status;
-    if (!rk.admissible(trial)) {
-      left = true;
-      t_outside = t + h;
-      return StepStatus::non_finite;  // reported as left_domain by run_euler_angles
-    }
-    y = trial;
-    return StepStatus::ok;
-  }
-  State<double> to_state(const Internal& y) const { return problem.to_state(y); }
+  State<double> to_state(const typename EulerAngleSteps::Internal& y) const { return problem.to_state(y); }
 };
 
 // The seed paper's Euler-angle top (problems/euler_angle_top.hpp): its state (φ, θ, ψ, φ', θ', m_ψ) is not
@@ -378,14 +364,14 @@ RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& sc
   RunReport report;
   report.expected_steps = static_cast<std::int64_t>(std::ceil(scene.t_end / scene.dt - 1e-9));
   const EuclideanRk<Tableau, EulerAngleTop<double>> rk(problem);
-  EulerAngleSteps<Tableau> stepper{rk, problem};
+  EulerAngleSteps<Tableau> stepper(rk, problem);
   RowWriter rows(options.csv);
   if (options.csv && !options.resume && !options.csv->write_record(header_for<EulerAngleTop<double>>() + "\n"))
     report.write_failed = true;
   const Vector y0 = problem.from_state(scene.initial);
   // Side-steps and the shadow trajectory of an observed run step a copy: a step of theirs that leaves the domain
   // does not mark the run.
-  EulerAngleSteps<Tableau> observed_steps{rk, problem};
+  EulerAngleSteps<Tableau> observed_steps(rk, problem);
   const auto from_state = [&problem](const State<double>& x, double) { return problem.from_state(x); };
   Observation<EulerAngleSteps<Tableau>, decltype(from_state)> observation(observed_steps, from_state, scene.dt, true);
   const auto columns = [&](double t, const Vector* v, auto&& add) {
@@ -434,7 +420,7 @@ RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& sc
   const bool moved = run_session(stepper, y, scene, options, row, rows, report);
   final_columns(report.summary.t, moved ? &y : nullptr);
   if (options.observer) observation.finish(*options.observer);
-  if (stepper.left && report.summary.status == RunStatus::step_failed) {
+  if (stepper.left() && report.summary.status == RunStatus::step_failed) {
     // t_outside: the time of the rejected state (sin θ < min_sin_theta); the last admissible one is kept.
     report.summary.status = RunStatus::stopped;
     report.summary.step_status = StepStatus::ok;
@@ -444,7 +430,7 @@ RunReport run_euler_angles(const EulerAngleTop<double>& problem, const Scene& sc
                  "their coordinate singularity (symmetry axis near the laboratory e3); the run stops at t = %s, the "
                  "last admissible state (sin(theta) = %.3g there; the same motion runs on SO(3) as problem.type "
                  "heavy_top, or lower /problem/min_sin_theta)\n",
-                 scene.file.c_str(), format_number(stepper.t_outside).c_str(),
+                 scene.file.c_str(), format_number(stepper.t_outside()).c_str(),
                  format_number(problem.min_sin_theta).c_str(), format_number(report.summary.t).c_str(),
                  std::sin(y[1]));
   }

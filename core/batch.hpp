@@ -38,6 +38,7 @@
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <thread>
 #include <type_traits>
@@ -129,12 +130,15 @@ void integrate_batch_each(const MakeStepper& make_stepper, BodyBatch& batch, dou
       S stepper = make_stepper(i);
       typename S::Internal y = stepper.to_internal(batch.state(i), t0);
       IntegrationSummary summary;  // the drivers' own step loop: t_n = t0 + n·h, stops at a failed step
-      std::int64_t n = 0;
+      Cursor<double> c;
+      bool moved = false;
       NoMonitor monitor;
-      detail::advance(stepper, y, t0, h, n, n_steps, summary, monitor);
+      const auto no_observer = [](double, const typename S::Internal*) {};
+      drive_grid(stepper, y, t0, h, GridEvents<double>::steps(n_steps, t0, h), std::numeric_limits<std::int64_t>::max(),
+                 c, summary, moved, no_observer, monitor);
       batch.set_state(i, stepper.to_state(y));
       batch.status[i] = summary.step_status;
-      batch.steps[i] = n;
+      batch.steps[i] = c.n;
     }
   });
 }

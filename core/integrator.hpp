@@ -88,6 +88,16 @@ struct StepperOptions {
   }
 };
 
+// What the drivers (core/driver.hpp) need of a stepper: its scalar, the coordinates it steps, and the step, which
+// leaves y untouched unless it returns ok. Every Stepper is one; so are the Euclidean steppers of
+// integrators/euclidean_rk.hpp.
+template <class S>
+concept StepFunction = requires(S& s, typename S::Internal& y, const typename S::Scalar& t) {
+  typename S::Scalar;
+  typename S::Internal;
+  { s.step(y, t, t) } -> std::same_as<StepStatus>;
+};
+
 template <class S>
 concept Stepper = requires(S& s, const State<typename S::Scalar>& x, typename S::Internal& y,
                            const typename S::Scalar& t) {

@@ -102,12 +102,9 @@ struct AdaptiveOptions {
 };
 
 namespace detail {
-// The PI controller's step-size divisors (DOPRI5's; h_new = h / divisor), shared by integrate_adaptive and the
-// lgi command's driver (apps/runner_drive.hpp). err^α and err^α / err_old^β are formed as exp(α ln err − β ln err_old)
-// — two logs and one exp a step instead of two pow calls, equal to the pow form to rounding. Callgrind, `lgi run`
-// of the seed paper's top with rkmk_vern9_cayley at rtol = atol = 1e-10 to t = 1000 (10,868 steps, the same with
-// either form): libm 240 → 122 instructions a step, the whole run 57.13e6 → 56.06e6 (−99 of ≈ 4,650 a step).
-// err = 0 (an exact step) gives the largest increase without taking log(0).
+// The PI controller's step-size divisors (DOPRI5's; h_new = h / divisor). err^α and err^α / err_old^β are formed
+// as exp(α ln err − β ln err_old): two logs and one exp a step instead of two pow calls, equal to the pow form to
+// rounding. err = 0 (an exact step) gives the largest increase without taking log(0).
 inline double pi_accepted_divisor(double err, double err_old, double alpha, const AdaptiveOptions& o) {
   const double fac = err > 0 ? std::exp(alpha * std::log(err) - o.beta * std::log(err_old)) : 0.0;
   return std::clamp(fac / o.safety, 1.0 / o.fac_max, 1.0 / o.fac_min);
@@ -126,9 +123,123 @@ struct AdaptiveSummary {
   double h = 0;               // the step size the controller proposes next
 };
 
+// A fresh adaptive cursor at t0: the first trial step h0 (≤ h_max), the integrate_adaptive's initial values.
+template <class T>
+Cursor<T> adaptive_start(const T& t0, double h0, const AdaptiveOptions& options) {
+  Cursor<T> c;
+  c.adaptive = true;
+  c.t = t0;
+  c.h = std::min(h0, options.h_max);
+  return c;
+}
+
+// The adaptive loop (the fixed-step one is drive_grid, core/driver.hpp): from the cursor to times.back(), times
+// increasing and, from c.next on, > c.t (a fresh run: t0 observed by the caller and times equal to t0 skipped,
+// adaptive_start). observe(t, y) at each requested time inside an accepted step (y its dense output), at its end,
+// and every options.every accepted steps; the monitor as in drive_grid, counted in attempted steps; attempt_limit:
+// the run stops (Halt::budget) when c.attempts reaches it. span: |t_end − t0| of the whole run (the step-size
+// floor's scale). On return y is the last accepted state, summary.t its time, c where the run is.
+template <AdaptiveStepper S, class Observe, class Monitor>
+Halt drive_adaptive(S& stepper, typename S::Internal& y, std::span<const typename S::Scalar> times, double span,
+                    const AdaptiveOptions& options, std::int64_t attempt_limit, Cursor<typename S::Scalar>& c,
+                    IntegrationSummary& summary, bool& moved, Observe& observe, Monitor& monitor) {
+  using T = typename S::Scalar;
+  using Internal = typename S::Internal;
+  using C = Cursor<T>;
+  constexpr bool monitored = DriveMonitor<Monitor, C, Internal>;
+  summary.steps = c.steps;
+  summary.t = static_cast<double>(value_of(c.t));
+  moved = c.steps > 0;
+  const std::size_t count = times.size();
+  if (static_cast<std::size_t>(c.next) >= count) return Halt::none;
+  const T t_end = times.back();
+  const double alpha = 1.0 / S::control_order - 0.75 * options.beta;
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  Internal y1 = y;
+  typename S::Dense dense{};
+  std::int64_t next_check = std::numeric_limits<std::int64_t>::max();  // the attempt count of the next monitor call
+  if constexpr (monitored) next_check = c.attempts + monitor.first(static_cast<const C&>(c));
+  for (;;) {
+    if (c.attempts >= attempt_limit) {
+      summary.status = RunStatus::stopped;
+      return Halt::budget;
+    }
+    if constexpr (monitored) {
+      if (c.attempts == next_check) [[unlikely]] {
+        const std::int64_t stride = monitor(static_cast<const C&>(c), static_cast<const Internal&>(y));
+        if (stride <= 0) {
+          summary.status = RunStatus::stopped;
+          return Halt::monitor;
+        }
+        next_check = c.attempts + stride;
+      }
+    }
+    const double remaining = static_cast<double>(value_of(t_end - c.t));
+    bool last = false;
+    if (c.h * 1.01 >= remaining) {  // land on t_end (stretching a step by ≤ 1 %)
+      c.h = remaining;
+      last = true;
+    }
+    const double h_floor = std::max(options.h_min, 16 * eps * std::max(std::abs(static_cast<double>(value_of(c.t))), span));
+    if (!(c.h >= h_floor) && !(last && c.h > 0)) {
+      summary.status = RunStatus::step_failed;
+      summary.step_status = c.cause;
+      return Halt::failed;
+    }
+    ++c.attempts;
+    const T hT = last ? T(t_end - c.t) : T(c.h);
+    double err = 0;
+    const StepStatus status = stepper.attempt(y, c.t, hT, y1, err, dense);
+    if (status != StepStatus::ok || !(err <= std::numeric_limits<double>::max())) {
+      ++c.rejected;
+      c.cause = status == StepStatus::ok ? StepStatus::non_finite : status;
+      c.h *= 0.1;
+      c.rejected_last = true;
+      continue;
+    }
+    if (err <= 1.0) {
+      // accepted: outputs inside the step from its dense output, then the step's end
+      const T t_new = last ? t_end : T(c.t + hT);
+      while (static_cast<std::size_t>(c.next) < count &&
+             value_of(times[static_cast<std::size_t>(c.next)]) < value_of(t_new)) {
+        const T& tk = times[static_cast<std::size_t>(c.next)];
+        const T theta = (tk - c.t) / hT;
+        const Internal z = stepper.dense_output(dense, theta);
+        observe(tk, static_cast<const Internal*>(&z));
+        ++c.next;
+      }
+      y = y1;
+      c.t = t_new;
+      moved = true;
+      ++c.steps;
+      summary.steps = c.steps;
+      summary.t = static_cast<double>(value_of(c.t));
+      bool observed = false;
+      if (static_cast<std::size_t>(c.next) < count &&
+          value_of(times[static_cast<std::size_t>(c.next)]) == value_of(c.t)) {
+        observe(times[static_cast<std::size_t>(c.next)], static_cast<const Internal*>(&y));
+        ++c.next;
+        observed = true;
+      }
+      if (options.every > 0 && c.steps % options.every == 0 && !observed) observe(c.t, static_cast<const Internal*>(&y));
+      double h_new = std::min(c.h / detail::pi_accepted_divisor(err, c.err_old, alpha, options), options.h_max);
+      if (c.rejected_last) h_new = std::min(h_new, c.h);
+      c.err_old = std::max(err, 1e-4);
+      c.rejected_last = false;
+      c.cause = StepStatus::step_size_underflow;
+      c.h = h_new;
+      if (last || static_cast<std::size_t>(c.next) >= count) return Halt::none;
+    } else {
+      ++c.rejected;
+      c.h /= detail::pi_rejected_divisor(err, alpha, options);
+      c.rejected_last = true;
+    }
+  }
+}
+
 // Integrates from t0 with initial step h0 to times.back(), calling observe(t, x) at t0, at each of `times`
 // (strictly increasing, ≥ t0) and, with options.every = N > 0, after every N-th accepted step. On return x
-// is the state at times.back() (or the last accepted state, see the summary).
+// is the state at times.back() (or the last accepted state, see the summary). The loop is drive_adaptive's.
 template <AdaptiveStepper S, class Observer = NoObserver, class Monitor = NoMonitor>
 AdaptiveSummary integrate_adaptive(S& stepper, State<typename S::Scalar>& x, const typename S::Scalar& t0,
                                    const typename S::Scalar& h0, std::span<const typename S::Scalar> times,
@@ -150,93 +261,29 @@ AdaptiveSummary integrate_adaptive(S& stepper, State<typename S::Scalar>& x, con
   AdaptiveSummary summary;
   summary.t = static_cast<double>(value_of(t0));
   observe(t0, static_cast<const State<T>&>(x));
-  std::size_t next = 0;  // the next requested time to observe
-  while (next < times.size() && value_of(times[next]) == value_of(t0)) ++next;
-  if (next == times.size()) return summary;
+  Cursor<T> c = adaptive_start(t0, static_cast<double>(value_of(h0)), options);
+  while (static_cast<std::size_t>(c.next) < times.size() && value_of(times[static_cast<std::size_t>(c.next)]) == value_of(t0))
+    ++c.next;
+  if (static_cast<std::size_t>(c.next) == times.size()) return summary;
 
-  const T t_end = times.back();
-  const double span = std::abs(static_cast<double>(value_of(t_end - t0)));
-  const double alpha = 1.0 / S::control_order - 0.75 * options.beta;
-  constexpr double eps = std::numeric_limits<double>::epsilon();
-
-  Internal y = stepper.to_internal(x, t0), y1 = y;
-  typename S::Dense dense{};
-  T t = t0;
-  double h = std::min(static_cast<double>(value_of(h0)), options.h_max);
-  double err_old = 1e-4;   // DOPRI5's facold
-  bool rejected_last = false;
+  Internal y = stepper.to_internal(x, t0);
+  IntegrationSummary run;
   bool moved = false;
-  StepStatus cause = StepStatus::step_size_underflow;  // what drove h down, reported on underflow
-  std::int64_t attempts = 0;
-  bool done = false;
-  while (!done) {
-    if (attempts >= options.max_steps) {
-      summary.status = RunStatus::stopped;
-      break;
-    }
-    if constexpr (!std::is_same_v<std::remove_cvref_t<Monitor>, NoMonitor>) {
-      if (attempts > 0 && attempts % monitor_stride == 0 && !monitor(summary.accepted)) {
-        summary.status = RunStatus::stopped;
-        break;
-      }
-    }
-    const double remaining = static_cast<double>(value_of(t_end - t));
-    bool last = false;
-    if (h * 1.01 >= remaining) {  // land on t_end (stretching a step by ≤ 1 %)
-      h = remaining;
-      last = true;
-    }
-    const double h_floor = std::max(options.h_min, 16 * eps * std::max(std::abs(static_cast<double>(value_of(t))), span));
-    if (!(h >= h_floor) && !(last && h > 0)) {
-      summary.status = RunStatus::step_failed;
-      summary.step_status = cause;
-      break;
-    }
-    ++attempts;
-    const T hT = last ? T(t_end - t) : T(h);
-    double err = 0;
-    const StepStatus status = stepper.attempt(y, t, hT, y1, err, dense);
-    if (status != StepStatus::ok || !(err <= std::numeric_limits<double>::max())) {
-      ++summary.rejected;
-      cause = status == StepStatus::ok ? StepStatus::non_finite : status;
-      h *= 0.1;
-      rejected_last = true;
-      continue;
-    }
-    if (err <= 1.0) {
-      // accepted: outputs inside the step from its dense output, then the step's end
-      const T t_new = last ? t_end : T(t + hT);
-      while (next < times.size() && value_of(times[next]) < value_of(t_new)) {
-        const T theta = (times[next] - t) / hT;
-        observe(times[next], stepper.to_state(stepper.dense_output(dense, theta)));
-        ++next;
-      }
-      y = y1;
-      t = t_new;
-      moved = true;
-      ++summary.accepted;
-      summary.t = static_cast<double>(value_of(t));
-      bool observed = false;
-      if (next < times.size() && value_of(times[next]) == value_of(t)) {
-        observe(times[next], stepper.to_state(y));
-        ++next;
-        observed = true;
-      }
-      if (options.every > 0 && summary.accepted % options.every == 0 && !observed) observe(t, stepper.to_state(y));
-      double h_new = std::min(h / detail::pi_accepted_divisor(err, err_old, alpha, options), options.h_max);
-      if (rejected_last) h_new = std::min(h_new, h);
-      err_old = std::max(err, 1e-4);
-      rejected_last = false;
-      cause = StepStatus::step_size_underflow;
-      h = h_new;
-      done = last || next >= times.size();
-    } else {
-      ++summary.rejected;
-      h /= detail::pi_rejected_divisor(err, alpha, options);
-      rejected_last = true;
-    }
+  const auto on_event = [&](const T& t, const Internal* z) { observe(t, stepper.to_state(*z)); };
+  const double span = std::abs(static_cast<double>(value_of(times.back() - t0)));
+  if constexpr (std::is_same_v<std::remove_cvref_t<Monitor>, NoMonitor>) {
+    NoMonitor none;
+    drive_adaptive(stepper, y, times, span, options, options.max_steps, c, run, moved, on_event, none);
+  } else {
+    detail::StrideMonitor<std::remove_reference_t<Monitor>> every{monitor};
+    drive_adaptive(stepper, y, times, span, options, options.max_steps, c, run, moved, on_event, every);
   }
-  summary.h = h;
+  summary.status = run.status;
+  summary.step_status = run.step_status;
+  summary.accepted = c.steps;
+  summary.rejected = c.rejected;
+  summary.t = run.t;
+  summary.h = c.h;
   if (moved) x = stepper.to_state(y);
   return summary;
 }

@@ -29,8 +29,10 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 namespace lgi {
@@ -134,69 +136,68 @@ struct NoVectorObserver {
   constexpr void operator()(const T&, const V&) const {}
 };
 
+// A Euclidean stepper with its domain checked, as the drivers step it (drive_grid, core/driver.hpp): a step whose
+// result is not admissible fails, the state untouched, and records where (left, t_outside). Internal is the
+// system's Vector.
+template <class Rk>
+class CheckedEuclideanStep {
+ public:
+  using Scalar = typename Rk::Scalar;
+  using Internal = typename Rk::Vector;
+  explicit CheckedEuclideanStep(const Rk& rk) : rk_(rk) {}
+  StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
+    Internal trial = y;
+    const StepStatus status = rk_.step(trial, t, h);
+    if (status != StepStatus::ok) return status;
+    if (!rk_.admissible(trial)) [[unlikely]] {
+      left_ = true;
+      t_outside_ = static_cast<double>(value_of(t + h));
+      return StepStatus::non_finite;  // the run's status: left_domain (see left())
+    }
+    y = trial;
+    return StepStatus::ok;
+  }
+  bool left() const { return left_; }            // the last failed step left the domain
+  double t_outside() const { return t_outside_; }  // the time of that rejected state
+  const Rk& rk() const { return rk_; }
+
+ private:
+  const Rk& rk_;
+  bool left_ = false;
+  double t_outside_ = 0;
+};
+
 namespace detail {
 
-// The Euclidean twin of detail::drive (core/driver.hpp), with the same grid: t_n = t0 + n h, output
-// times between grid points reached by a side-step from a copy, the last one on the trajectory itself.
-template <class Stepper, class Next, class Observer, class Monitor>
-EuclideanSummary drive_euclidean(const Stepper& stepper, typename Stepper::Vector& y,
-                                 const typename Stepper::Scalar& t0, const typename Stepper::Scalar& h, Next&& next,
+// The Euclidean drivers over drive_grid: observe(t, y) with the vector itself.
+template <class Rk, class Observer, class Monitor>
+EuclideanSummary drive_euclidean(const Rk& rk, typename Rk::Vector& y, const typename Rk::Scalar& t0,
+                                 const typename Rk::Scalar& h, const GridEvents<typename Rk::Scalar>& events,
                                  Observer& observe, Monitor& monitor) {
-  using T = typename Stepper::Scalar;
-  using V = typename Stepper::Vector;
+  using T = typename Rk::Scalar;
+  using V = typename Rk::Vector;
   if (!(value_of(h) > 0)) throw std::invalid_argument("lgi::integrate: step h must be positive");
   EuclideanSummary summary;
   summary.t = static_cast<double>(value_of(t0));
   observe(t0, static_cast<const V&>(y));
-  std::int64_t n = 0;
-  const auto grid_time = [&] { return t0 + T(static_cast<double>(n)) * h; };
-  // One step from time t by dt, checked; false ends the run with y untouched.
-  const auto checked_step = [&](V& z, const T& t, const T& dt) {
-    V trial = z;
-    const StepStatus status = stepper.step(trial, t, dt);
-    if (status != StepStatus::ok) [[unlikely]] {
-      summary.status = RunStatus::step_failed;
-      summary.step_status = status;
-      return false;
-    }
-    if (!stepper.admissible(trial)) [[unlikely]] {
-      summary.status = RunStatus::stopped;
-      summary.left_domain = true;
-      summary.t_outside = static_cast<double>(value_of(t + dt));
-      return false;
-    }
-    z = trial;
-    ++summary.steps;
-    return true;
-  };
-  OutputEvent<T> event;
-  bool more = next(event);
-  while (more) {
-    OutputEvent<T> following;
-    more = next(following);
-    bool ok = true;
-    for (; n < event.at.m && ok; ++n) {
-      ok = checked_step(y, grid_time(), h);
-      if (ok && (n + 1) % monitor_stride == 0 && !monitor(summary.steps)) [[unlikely]] {
-        ++n;
-        summary.status = RunStatus::stopped;
-        ok = false;
-      }
-      if (!ok) break;
-    }
-    summary.t = static_cast<double>(value_of(grid_time()));
-    if (!ok) break;
-    if (event.at.on_grid) {
-      summary.t = static_cast<double>(value_of(event.t));
-      observe(event.t, static_cast<const V&>(y));
-    } else {
-      V side = y;
-      V& z = more ? side : y;
-      if (!checked_step(z, grid_time(), event.t - grid_time())) break;
-      if (!more) summary.t = static_cast<double>(value_of(event.t));
-      observe(event.t, static_cast<const V&>(z));
-    }
-    event = following;
+  CheckedEuclideanStep<Rk> stepper(rk);
+  Cursor<T> c;
+  bool moved = false;
+  const auto on_event = [&](const T& t, const V* z) { observe(t, z ? *z : static_cast<const V&>(y)); };
+  const std::int64_t no_limit = std::numeric_limits<std::int64_t>::max();
+  IntegrationSummary& s = summary;
+  if constexpr (std::is_same_v<std::remove_cvref_t<Monitor>, NoMonitor>) {
+    NoMonitor none;
+    drive_grid(stepper, y, t0, h, events, no_limit, c, s, moved, on_event, none);
+  } else {
+    StrideMonitor<std::remove_reference_t<Monitor>> every{monitor};
+    drive_grid(stepper, y, t0, h, events, no_limit, c, s, moved, on_event, every);
+  }
+  if (summary.status == RunStatus::step_failed && stepper.left()) {
+    summary.status = RunStatus::stopped;
+    summary.step_status = StepStatus::ok;
+    summary.left_domain = true;
+    summary.t_outside = stepper.t_outside();
   }
   return summary;
 }
@@ -210,19 +211,11 @@ EuclideanSummary integrate_times_euclidean(const Stepper& stepper, typename Step
                                            const typename Stepper::Scalar& t0, const typename Stepper::Scalar& h,
                                            std::span<const typename Stepper::Scalar> times, Observer&& observe = {},
                                            Monitor&& monitor = {}) {
-  using T = typename Stepper::Scalar;
   for (std::size_t i = 0; i < times.size(); ++i)
     if (!(value_of(times[i]) >= value_of(t0)) || (i > 0 && !(value_of(times[i]) > value_of(times[i - 1]))))
       throw std::invalid_argument("lgi::integrate_times: output times must be increasing and >= t0");
-  std::size_t i = 0;
-  if (!times.empty() && value_of(times[0]) == value_of(t0)) i = 1;
-  auto next = [&](detail::OutputEvent<T>& e) {
-    if (i == times.size()) return false;
-    e = {times[i], detail::locate(t0, h, times[i])};
-    ++i;
-    return true;
-  };
-  return detail::drive_euclidean(stepper, y, t0, h, next, observe, monitor);
+  const GridEvents<typename Stepper::Scalar> events(times, t0, h);
+  return detail::drive_euclidean(stepper, y, t0, h, events, observe, monitor);
 }
 
 // Integrates from t0 to t_end with step h, observing t0, every `every` steps, and t_end.
@@ -231,24 +224,10 @@ EuclideanSummary integrate_every_euclidean(const Stepper& stepper, typename Step
                                            const typename Stepper::Scalar& t0, const typename Stepper::Scalar& h,
                                            const typename Stepper::Scalar& t_end, std::int64_t every,
                                            Observer&& observe = {}, Monitor&& monitor = {}) {
-  using T = typename Stepper::Scalar;
   if (every < 1) throw std::invalid_argument("lgi::integrate_every: every must be >= 1");
   if (!(value_of(t_end) >= value_of(t0))) throw std::invalid_argument("lgi::integrate_every: t_end < t0");
-  const detail::GridPoint end = detail::locate(t0, h, t_end);
-  std::int64_t m = 0;
-  bool done = end.m == 0 && end.on_grid;
-  auto next = [&](detail::OutputEvent<T>& e) {
-    if (done) return false;
-    m += every;
-    if (m < end.m || (m == end.m && !end.on_grid)) {
-      e = {t0 + T(static_cast<double>(m)) * h, {m, true}};
-    } else {
-      e = {t_end, end};
-      done = true;
-    }
-    return true;
-  };
-  return detail::drive_euclidean(stepper, y, t0, h, next, observe, monitor);
+  const GridEvents<typename Stepper::Scalar> events(every, t0, t_end, h);
+  return detail::drive_euclidean(stepper, y, t0, h, events, observe, monitor);
 }
 
 }  // namespace lgi
