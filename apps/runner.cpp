@@ -172,7 +172,7 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
   const bool torque_free = std::visit(
       [](const auto& p) {
         using P = std::decay_t<decltype(p)>;
-        if constexpr (requires { P::has_torque; })
+        if constexpr (RigidBodyProblem<P>)
           return !P::has_torque;
         else
           return false;

@@ -3,7 +3,8 @@
 // A run's future depends on (1) the scene, (2) where the driver is, (3) the stepper's internal state, and
 // nothing else: steppers keep no state between steps but counters (core/integrator.hpp; checked for every
 // method of apps/registry.hpp — no Newton warm start, no FSAL stage reused, no step-size memory; the
-// adaptive steps' memory is the driver's, below). A checkpoint (format 2) is a JSON file holding, in this order,
+// adaptive steps' memory is the driver's, below). The stepper's numbers are those its Internal type lists
+// (core/state_io.hpp, LGI_NUMBERS), in that order. A checkpoint (format 2) is a JSON file holding, in this order,
 //   - "lgi_checkpoint": 2, lgi's version, the scene file's name, the method, "t" and "state" (R, Ω) in decimal
 //     for people (not read back);
 //   - "cursor": fixed steps — the grid index n (t = n·dt), the index of the next output event, the steps taken;
@@ -34,10 +35,7 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <span>
 #include <string>
-#include <type_traits>
-#include <utility>
 #include <vector>
 
 namespace lgi::app {
@@ -90,81 +88,5 @@ bool is_own_checkpoint(const std::string& path, const std::string& checksum);
 // True if `path` is a regular file whose bytes begin as every checkpoint file does (or are a prefix of that:
 // empty or cut short) — a temporary file of write_checkpoint that a kill left behind.
 bool is_checkpoint_temporary(const std::string& path);
-
-// ---- the stepper's internal state as numbers --------------------------------------------------------------
-// for_each_number(y, f) calls f(double&) on every number of an Internal (core/state.hpp, the steppers of
-// integrators/), in a fixed order; internal_size<Y>() counts them. A new Internal type must be added here: the
-// static_assert below refuses one whose size is not accounted for (a member this does not know of).
-
-template <class>
-inline constexpr bool unknown_internal = false;
-
-template <class U>
-constexpr std::size_t internal_size() {
-  using std::declval;
-  if constexpr (requires { U::SizeAtCompileTime; }) {  // an Eigen vector or matrix of doubles
-    static_assert(std::is_same_v<typename U::Scalar, double>);
-    return static_cast<std::size_t>(U::SizeAtCompileTime);
-  } else if constexpr (requires(U& u) { u.y; u.target.energy; u.target.second; }) {  // Projected<S>::Internal
-    return internal_size<decltype(declval<U&>().y)>() + 2;
-  } else if constexpr (requires(U& u) { u.w; u.v; }) {  // Quaternion
-    return 1 + internal_size<decltype(declval<U&>().v)>();
-  } else if constexpr (requires(U& u) { u.q; u.Pi; u.M; u.psi; }) {  // lagrange_split: turning frame and spin angle
-    return internal_size<decltype(declval<U&>().q)>() + 7;
-  } else if constexpr (requires(U& u) { u.q; u.Pi; u.M; }) {  // Splitting: quaternion, momentum, torque
-    return internal_size<decltype(declval<U&>().q)>() + 6;
-  } else if constexpr (requires(U& u) { u.R; u.Pi; u.M; }) {  // LGVI, split_exact
-    return 15;
-  } else if constexpr (requires(U& u) { u.q; u.Omega; }) {  // QuatState
-    return internal_size<decltype(declval<U&>().q)>() + 3;
-  } else if constexpr (requires(U& u) { u.R; u.Omega; }) {  // State
-    return 12;
-  } else if constexpr (requires(U& u) { u.R; u.Pi; }) {  // MomentumState
-    return 12;
-  } else {
-    static_assert(unknown_internal<U>, "lgi checkpoints: an Internal type runner_checkpoint.hpp does not know");
-    return 0;
-  }
-}
-
-template <class Y, class F>
-void for_each_number(Y& y, F&& f) {
-  using U = std::remove_const_t<Y>;
-  // All of it is doubles (padding only to the type's alignment): nothing is left out.
-  static_assert(sizeof(U) == (internal_size<U>() * sizeof(double) + alignof(U) - 1) / alignof(U) * alignof(U),
-                "lgi checkpoints: an Internal type has members runner_checkpoint.hpp does not serialise");
-  if constexpr (requires { U::SizeAtCompileTime; }) {
-    for (Eigen::Index i = 0; i < y.size(); ++i) f(y.data()[i]);
-  } else if constexpr (requires(U& u) { u.y; u.target.energy; u.target.second; }) {
-    for_each_number(y.y, f);
-    f(y.target.energy);
-    f(y.target.second);
-  } else if constexpr (requires(U& u) { u.w; u.v; }) {
-    f(y.w);
-    for_each_number(y.v, f);
-  } else if constexpr (requires(U& u) { u.q; u.Pi; u.M; u.psi; }) {
-    for_each_number(y.q, f);
-    for_each_number(y.Pi, f);
-    for_each_number(y.M, f);
-    f(y.psi);
-  } else if constexpr (requires(U& u) { u.q; u.Pi; u.M; }) {
-    for_each_number(y.q, f);
-    for_each_number(y.Pi, f);
-    for_each_number(y.M, f);
-  } else if constexpr (requires(U& u) { u.R; u.Pi; u.M; }) {
-    for_each_number(y.R, f);
-    for_each_number(y.Pi, f);
-    for_each_number(y.M, f);
-  } else if constexpr (requires(U& u) { u.q; u.Omega; }) {
-    for_each_number(y.q, f);
-    for_each_number(y.Omega, f);
-  } else if constexpr (requires(U& u) { u.R; u.Omega; }) {
-    for_each_number(y.R, f);
-    for_each_number(y.Omega, f);
-  } else {
-    for_each_number(y.R, f);
-    for_each_number(y.Pi, f);
-  }
-}
 
 }  // namespace lgi::app

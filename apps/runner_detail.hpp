@@ -1,14 +1,14 @@
 // lgi/apps/runner_detail.hpp — what the runner's translation units share (internal to apps/).
 //
-// The runner is compiled in parts, one translation unit per registered problem (runner_part.cpp.in,
-// configured by apps/CMakeLists.txt), because every problem instantiates every method that applies to it
-// (with and without projection, fixed-step and adaptive drivers): in one translation unit that took over
-// seven minutes at -O3. runner.cpp dispatches on the scene's problem to run_problem<P>, which each part
-// instantiates for one P; a part missing for a problem is a link error, and runner.cpp checks the count.
+// A run is compiled once (apps/session.cpp) against two interfaces: lgi::Integrator (core/engine.hpp), the scene's
+// method on its problem, and ProblemRunner below, the problem's columns and hooks. Only these are compiled per
+// problem: every method that applies to it (with and without projection), in one runner part per problem
+// (runner_part.cpp.in, configured by apps/CMakeLists.txt; run_scene.cpp dispatches on the scene's problem).
 #pragma once
 
 #include "runner.hpp"
 
+#include <lgi/core/engine.hpp>
 #include <lgi/core/so3.hpp>
 
 #include <array>
@@ -18,17 +18,38 @@
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace lgi::app {
 
-// Runs `scene` whose problem is `problem` (the scene's variant holds a P): defined in runner_impl.hpp,
-// instantiated once per problem in the runner parts.
-template <class P>
-RunReport run_problem(const P& problem, const Scene& scene, const RunOptions& options);
-
 namespace runner_detail {
+
+// What a run needs of its problem, behind an interface (runner_impl.hpp implements it once per problem type, in
+// the runner parts; the session, apps/session.cpp, is compiled once).
+class ProblemRunner {
+ public:
+  virtual ~ProblemRunner() = default;
+  // The scene's method on this problem (projected when the scene asks for it).
+  virtual std::unique_ptr<Integrator> integrator(const Scene& scene) const = 0;
+  // The columns of a row (csv_header) at time t: of the integrator's slot s, or of the scene's initial state as
+  // given (no round trip through a stepper's coordinates).
+  virtual void columns(double t, const Integrator& engine, Slot s, std::vector<double>& out) const = 0;
+  virtual void initial_columns(const Scene& scene, double t, std::vector<double>& out) const = 0;
+  // Before the first step: false when the run cannot start (the report says why and holds the final values).
+  virtual bool start(const Scene&, RunReport&) const { return true; }
+  // After the run: what the problem adds to the report.
+  virtual void finish(const Scene&, const Integrator&, RunReport&) const {}
+};
+
+// The runner of problem P with the scene's parameters: instantiated once per problem in the runner parts.
+template <class P>
+std::unique_ptr<ProblemRunner> make_problem_runner(const P& problem);
+
+// One invocation of a run (apps/session.cpp).
+RunReport run_session(const ProblemRunner& problem, const Scene& scene, const RunOptions& options);
 
 using Clock = std::chrono::steady_clock;
 

@@ -15,25 +15,21 @@ namespace lgi::app {
 BodyData body_data(const Scene& scene) {
   return std::visit(
       [](const auto& p) {
-        BodyData d;
-        if constexpr (requires { p.heavy_top(); }) {  // the Euler-angle top: the same top on SO(3)
-          const auto top = p.heavy_top();
-          d.J = top.inertia;
-          d.has_gravity = true;
-          d.k = top.k;
-          d.z0 = top.z0;
-        } else {
-          d.J = p.inertia;
-          if constexpr (requires { p.k; p.z0; }) {
+        using P = std::decay_t<decltype(p)>;
+        const auto body = [](const auto& q) {  // a RigidBodyProblem
+          BodyData d;
+          d.J = q.inertia;
+          if constexpr (UniformGravityProblem<std::decay_t<decltype(q)>>) {
             d.has_gravity = true;
-            d.k = p.k;
-            d.z0 = p.z0;
-          } else if constexpr (requires { p.k; }) {  // the Lagrange top: z0 = e3
-            d.has_gravity = true;
-            d.k = p.k;
+            d.k = q.gravity_axis();
+            d.z0 = q.mass_axis();
           }
-        }
-        return d;
+          return d;
+        };
+        if constexpr (CoordinateProblem<P>)
+          return body(p.heavy_top());  // the same top on SO(3)
+        else
+          return body(p);
       },
       scene.problem);
 }

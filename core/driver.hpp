@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -264,6 +265,178 @@ Halt drive_grid(S& stepper, typename S::Internal& y, const typename S::Scalar& t
     ++c.event;
     if (!more) return Halt::none;
     event = following;
+  }
+}
+
+// ---- adaptive steps --------------------------------------------------------------------------------------
+// The loop of integrators/adaptive.hpp (its header has the method: error control on the group, the PI controller,
+// dense output), here beside the fixed-step one so that both are the engine's (core/engine.hpp).
+
+// The smallest relative tolerance accepted: 10 ε, as in DOPRI5 and DOP853. Below it the error estimate (a
+// difference of two solutions) no longer sees the round-off of the solution itself and would "meet" any
+// tolerance with steps too small to mean anything.
+inline constexpr double min_rtol = 10 * std::numeric_limits<double>::epsilon();
+
+template <class S>
+concept AdaptiveStepper =
+    Stepper<S> && requires(const S& s, const typename S::Internal& y, typename S::Internal& y1,
+                           const typename S::Scalar& t, double& err, typename S::Dense& d) {
+      typename S::Dense;
+      { S::control_order } -> std::convertible_to<int>;
+      { s.attempt(y, t, t, y1, err, d) } -> std::same_as<StepStatus>;
+      { s.dense_output(d, t) } -> std::same_as<typename S::Internal>;
+      { s.rtol() } -> std::convertible_to<double>;
+      { s.atol() } -> std::convertible_to<double>;
+    } && (S::control_order > 0);
+
+// Step-size control (the defaults are DOPRI5's).
+struct AdaptiveOptions {
+  double safety = 0.9;     // h_new = h · safety · (1/err)^α …
+  double fac_min = 0.2;    // … at least fac_min · h
+  double fac_max = 10.0;   // … at most fac_max · h
+  double beta = 0.04;      // PI controller: exponent of the previous error (0: I controller)
+  double h_max = std::numeric_limits<double>::infinity();
+  double h_min = 0;        // a step below max(h_min, 16 ε max(|t|, |t_end − t0|)) fails (step_size_underflow)
+  std::int64_t max_steps = 1'000'000'000;  // attempted steps (accepted + rejected) before the run stops
+  std::int64_t every = 0;  // also observe every `every` accepted steps (0: only at the requested times)
+
+  // Throws std::invalid_argument unless the values make sense.
+  void check() const {
+    if (!(safety > 0 && safety <= 1)) throw std::invalid_argument("lgi::AdaptiveOptions: safety must be in (0, 1]");
+    if (!(fac_min > 0 && fac_min < 1)) throw std::invalid_argument("lgi::AdaptiveOptions: fac_min must be in (0, 1)");
+    if (!(fac_max > 1)) throw std::invalid_argument("lgi::AdaptiveOptions: fac_max must be > 1");
+    if (!(beta >= 0 && beta < 0.2)) throw std::invalid_argument("lgi::AdaptiveOptions: beta must be in [0, 0.2)");
+    if (!(h_max > 0)) throw std::invalid_argument("lgi::AdaptiveOptions: h_max must be > 0");
+    if (!(h_min >= 0)) throw std::invalid_argument("lgi::AdaptiveOptions: h_min must be >= 0");
+    if (max_steps < 1) throw std::invalid_argument("lgi::AdaptiveOptions: max_steps must be >= 1");
+    if (every < 0) throw std::invalid_argument("lgi::AdaptiveOptions: every must be >= 0");
+  }
+};
+
+namespace detail {
+// The PI controller's step-size divisors (DOPRI5's; h_new = h / divisor). err^α and err^α / err_old^β are formed
+// as exp(α ln err − β ln err_old): two logs and one exp a step instead of two pow calls, equal to the pow form to
+// rounding. err = 0 (an exact step) gives the largest increase without taking log(0).
+inline double pi_accepted_divisor(double err, double err_old, double alpha, const AdaptiveOptions& o) {
+  const double fac = err > 0 ? std::exp(alpha * std::log(err) - o.beta * std::log(err_old)) : 0.0;
+  return std::clamp(fac / o.safety, 1.0 / o.fac_max, 1.0 / o.fac_min);
+}
+inline double pi_rejected_divisor(double err, double alpha, const AdaptiveOptions& o) {  // err > 1
+  return std::min(1.0 / o.fac_min, std::exp(alpha * std::log(err)) / o.safety);
+}
+}  // namespace detail
+
+// A fresh adaptive cursor at t0: the first trial step h0 (≤ h_max), the integrate_adaptive's initial values.
+template <class T>
+Cursor<T> adaptive_start(const T& t0, double h0, const AdaptiveOptions& options) {
+  Cursor<T> c;
+  c.adaptive = true;
+  c.t = t0;
+  c.h = std::min(h0, options.h_max);
+  return c;
+}
+
+// The adaptive loop (the fixed-step one is drive_grid, core/driver.hpp): from the cursor to times.back(), times
+// increasing and, from c.next on, > c.t (a fresh run: t0 observed by the caller and times equal to t0 skipped,
+// adaptive_start). observe(t, y) at each requested time inside an accepted step (y its dense output), at its end,
+// and every options.every accepted steps; the monitor as in drive_grid, counted in attempted steps; attempt_limit:
+// the run stops (Halt::budget) when c.attempts reaches it. span: |t_end − t0| of the whole run (the step-size
+// floor's scale). On return y is the last accepted state, summary.t its time, c where the run is.
+template <AdaptiveStepper S, class Observe, class Monitor>
+Halt drive_adaptive(S& stepper, typename S::Internal& y, std::span<const typename S::Scalar> times, double span,
+                    const AdaptiveOptions& options, std::int64_t attempt_limit, Cursor<typename S::Scalar>& c,
+                    IntegrationSummary& summary, bool& moved, Observe& observe, Monitor& monitor) {
+  using T = typename S::Scalar;
+  using Internal = typename S::Internal;
+  using C = Cursor<T>;
+  constexpr bool monitored = DriveMonitor<Monitor, C, Internal>;
+  summary.steps = c.steps;
+  summary.t = static_cast<double>(value_of(c.t));
+  moved = c.steps > 0;
+  const std::size_t count = times.size();
+  if (static_cast<std::size_t>(c.next) >= count) return Halt::none;
+  const T t_end = times.back();
+  const double alpha = 1.0 / S::control_order - 0.75 * options.beta;
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  Internal y1 = y;
+  typename S::Dense dense{};
+  std::int64_t next_check = std::numeric_limits<std::int64_t>::max();  // the attempt count of the next monitor call
+  if constexpr (monitored) next_check = c.attempts + monitor.first(static_cast<const C&>(c));
+  for (;;) {
+    if (c.attempts >= attempt_limit) {
+      summary.status = RunStatus::stopped;
+      return Halt::budget;
+    }
+    if constexpr (monitored) {
+      if (c.attempts == next_check) [[unlikely]] {
+        const std::int64_t stride = monitor(static_cast<const C&>(c), static_cast<const Internal&>(y));
+        if (stride <= 0) {
+          summary.status = RunStatus::stopped;
+          return Halt::monitor;
+        }
+        next_check = c.attempts + stride;
+      }
+    }
+    const double remaining = static_cast<double>(value_of(t_end - c.t));
+    bool last = false;
+    if (c.h * 1.01 >= remaining) {  // land on t_end (stretching a step by ≤ 1 %)
+      c.h = remaining;
+      last = true;
+    }
+    const double h_floor = std::max(options.h_min, 16 * eps * std::max(std::abs(static_cast<double>(value_of(c.t))), span));
+    if (!(c.h >= h_floor) && !(last && c.h > 0)) {
+      summary.status = RunStatus::step_failed;
+      summary.step_status = c.cause;
+      return Halt::failed;
+    }
+    ++c.attempts;
+    const T hT = last ? T(t_end - c.t) : T(c.h);
+    double err = 0;
+    const StepStatus status = stepper.attempt(y, c.t, hT, y1, err, dense);
+    if (status != StepStatus::ok || !(err <= std::numeric_limits<double>::max())) {
+      ++c.rejected;
+      c.cause = status == StepStatus::ok ? StepStatus::non_finite : status;
+      c.h *= 0.1;
+      c.rejected_last = true;
+      continue;
+    }
+    if (err <= 1.0) {
+      // accepted: outputs inside the step from its dense output, then the step's end
+      const T t_new = last ? t_end : T(c.t + hT);
+      while (static_cast<std::size_t>(c.next) < count &&
+             value_of(times[static_cast<std::size_t>(c.next)]) < value_of(t_new)) {
+        const T& tk = times[static_cast<std::size_t>(c.next)];
+        const T theta = (tk - c.t) / hT;
+        const Internal z = stepper.dense_output(dense, theta);
+        observe(tk, static_cast<const Internal*>(&z));
+        ++c.next;
+      }
+      y = y1;
+      c.t = t_new;
+      moved = true;
+      ++c.steps;
+      summary.steps = c.steps;
+      summary.t = static_cast<double>(value_of(c.t));
+      bool observed = false;
+      if (static_cast<std::size_t>(c.next) < count &&
+          value_of(times[static_cast<std::size_t>(c.next)]) == value_of(c.t)) {
+        observe(times[static_cast<std::size_t>(c.next)], static_cast<const Internal*>(&y));
+        ++c.next;
+        observed = true;
+      }
+      if (options.every > 0 && c.steps % options.every == 0 && !observed) observe(c.t, static_cast<const Internal*>(&y));
+      double h_new = std::min(c.h / detail::pi_accepted_divisor(err, c.err_old, alpha, options), options.h_max);
+      if (c.rejected_last) h_new = std::min(h_new, c.h);
+      c.err_old = std::max(err, 1e-4);
+      c.rejected_last = false;
+      c.cause = StepStatus::step_size_underflow;
+      c.h = h_new;
+      if (last || static_cast<std::size_t>(c.next) >= count) return Halt::none;
+    } else {
+      ++c.rejected;
+      c.h /= detail::pi_rejected_divisor(err, alpha, options);
+      c.rejected_last = true;
+    }
   }
 }
 

@@ -126,6 +126,23 @@ auto invariants_at(const P& p, const typename P::Scalar& t, const State<typename
     return p.invariants(x);
 }
 
+// Optional: uniform gravity, the potential b k·(R z0) of a heavy top: the unit laboratory axis k opposite to gravity
+// and the unit body axis z0 from the fixed point to the centre of mass. What reads it: the state functions of
+// sweeps (γ = Rᵀk, the tilt of z0, its height), apps/sweep_observe.cpp.
+//   Vec3<T> gravity_axis() const;   // k
+//   Vec3<T> mass_axis() const;      // z0
+template <class P>
+concept UniformGravityProblem = requires(const P& p) {
+  { p.gravity_axis() } -> std::convertible_to<Vec3<typename P::Scalar>>;
+  { p.mass_axis() } -> std::convertible_to<Vec3<typename P::Scalar>>;
+};
+
+// A problem stated in coordinates other than SO(3)×R³ (the seed paper's Euler-angle top,
+// problems/euler_angle_top.hpp) that names the same body on SO(3):
+//   auto heavy_top() const;   // the RigidBodyProblem with the same motion
+template <class P>
+concept CoordinateProblem = !RigidBodyProblem<P> && requires(const P& p) { p.heavy_top(); };
+
 // The problem type P re-instantiated on scalar S (e.g. HeavyTop<double> → HeavyTop<Jet>).
 template <class P, class S>
 using rebind_problem_t = decltype(std::declval<const P&>().template cast<S>());

@@ -6,6 +6,7 @@
 // Time is not part of the state: drivers compute t = t0 + n·h from the step index.
 #pragma once
 
+#include "state_io.hpp"
 #include "scalar.hpp"
 
 namespace lgi {
@@ -14,6 +15,7 @@ template <class T>
 struct State {
   Mat3<T> R = Mat3<T>::Identity();
   Vec3<T> Omega = Vec3<T>::Zero();
+  LGI_NUMBERS(R, Omega)
 
   // The same state in another scalar type (double → ceres::Jet for differentiation, or back).
   template <class S>
@@ -30,6 +32,7 @@ template <class T>
 struct MomentumState {
   Mat3<T> R = Mat3<T>::Identity();
   Vec3<T> Pi = Vec3<T>::Zero();
+  LGI_NUMBERS(R, Pi)
 };
 
 // True when every entry is finite (derivative parts of Jets included).

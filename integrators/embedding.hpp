@@ -32,6 +32,7 @@
 // quaternion kinematics, e.g. Solà, arXiv:1711.02508, eq. (111) (not confirmed).
 #pragma once
 
+#include "../core/state_io.hpp"
 #include "../core/inertia.hpp"
 #include "../core/integrator.hpp"
 #include "../core/problem.hpp"
@@ -53,6 +54,7 @@ template <class T>
 struct QuatState {
   Eigen::Matrix<T, 4, 1> q;
   Vec3<T> Omega;
+  LGI_NUMBERS(q, Omega)
 };
 
 namespace embedding {

@@ -82,6 +82,7 @@
 // is not representable by a smooth Q and is dropped: see PrincipalAxes).
 #pragma once
 
+#include "../core/state_io.hpp"
 #include "../core/inertia.hpp"
 #include "../core/integrator.hpp"
 #include "../core/scalar.hpp"
@@ -103,6 +104,7 @@ template <class T>
 struct Quaternion {
   T w = T(1);
   Vec3<T> v = Vec3<T>::Zero();
+  LGI_NUMBERS(w, v)
 };
 
 namespace quat {

@@ -55,6 +55,7 @@
 // otherwise — and their torque has M3 ≡ 0 (the step does not read M3).
 #pragma once
 
+#include "../core/state_io.hpp"
 #include "../core/integrator.hpp"
 #include "../core/problem.hpp"
 #include "../core/so3.hpp"
@@ -84,6 +85,7 @@ class LagrangeSplit {
     Vec3<Scalar> Pi;
     Vec3<Scalar> M;
     Scalar psi;
+    LGI_NUMBERS(q, Pi, M, psi)
   };
 
   static constexpr MethodTraits traits{

@@ -34,6 +34,7 @@
 // Zanna, FoCM 5 (2005) 87).
 #pragma once
 
+#include "../core/state_io.hpp"
 #include "../core/inertia.hpp"
 #include "../core/integrator.hpp"
 #include "../core/problem.hpp"
@@ -56,6 +57,7 @@ class Lgvi {
     Mat3<Scalar> R;
     Vec3<Scalar> Pi;
     Vec3<Scalar> M;
+    LGI_NUMBERS(R, Pi, M)
   };
 
   static constexpr MethodTraits traits{

@@ -43,6 +43,7 @@
 // and every dense output are projected.
 #pragma once
 
+#include "../core/state_io.hpp"
 #include "../core/inertia.hpp"
 #include "../core/integrator.hpp"
 #include "../core/invariants.hpp"
@@ -203,6 +204,7 @@ class Projected {
   struct Internal {
     typename S::Internal y;
     ProjectionTargets<Scalar> target;
+    LGI_NUMBERS(y, target.energy, target.second)
   };
   // The inner method's traits: the projection changes what is conserved, not what the method is.
   static constexpr MethodTraits traits = S::traits;

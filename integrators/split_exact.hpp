@@ -18,6 +18,7 @@
 // integrals and an AGM per call), so this is a reference-quality method, not a fast one.
 #pragma once
 
+#include "../core/state_io.hpp"
 #include "../core/integrator.hpp"
 #include "../core/problem.hpp"
 #include "../core/state.hpp"
@@ -38,6 +39,7 @@ class SplitExact {
     Mat3<Scalar> R;
     Vec3<Scalar> Pi;
     Vec3<Scalar> M;
+    LGI_NUMBERS(R, Pi, M)
   };
 
   static constexpr MethodTraits traits{

@@ -35,6 +35,7 @@
 // first-order perturbation for Jets); to_internal/to_state convert at the edges of a run.
 #pragma once
 
+#include "../core/state_io.hpp"
 #include "../core/integrator.hpp"
 #include "../core/problem.hpp"
 #include "../core/state.hpp"
@@ -122,6 +123,7 @@ class Splitting {
     Quaternion<Scalar> q;  // R_p = R Q
     Vec3<Scalar> Pi;       // principal-axis body momentum
     Vec3<Scalar> M;        // principal-axis torque at q (the next step's first kick)
+    LGI_NUMBERS(q, Pi, M)
   };
 
   static constexpr MethodTraits traits{

@@ -31,6 +31,8 @@ struct HeavyTop {
   T b = T(0);
   Vec3<T> k = Vec3<T>::UnitZ();
   Vec3<T> z0 = Vec3<T>::UnitZ();
+  Vec3<T> gravity_axis() const { return k; }  // UniformGravityProblem (core/problem.hpp)
+  Vec3<T> mass_axis() const { return z0; }
 
   T potential(const Mat3<T>& R) const { return b * k.dot(R * z0); }
   Vec3<T> torque(const Mat3<T>& R) const { return reduced_torque(Vec3<T>(R.transpose() * k)); }

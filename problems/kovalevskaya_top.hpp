@@ -43,6 +43,8 @@ struct KovalevskayaTop {
   T b = T(1);
   Vec3<T> k = Vec3<T>::UnitZ();
   Vec3<T> z0 = Vec3<T>::UnitX();  // equatorial: z0_3 = 0
+  Vec3<T> gravity_axis() const { return k; }  // UniformGravityProblem (core/problem.hpp)
+  Vec3<T> mass_axis() const { return z0; }
 
   static KovalevskayaTop make(const T& I3, const T& b, const Vec3<T>& k = Vec3<T>::UnitZ(),
                               const Vec3<T>& z0 = Vec3<T>::UnitX()) {

@@ -42,6 +42,8 @@ struct LagrangeTop {
   Mat3<T> inertia = Mat3<T>::Identity();  // diag(I1, I1, I3): construct with make()
   T b = T(0);
   Vec3<T> k = Vec3<T>::UnitZ();
+  Vec3<T> gravity_axis() const { return k; }                 // UniformGravityProblem (core/problem.hpp)
+  Vec3<T> mass_axis() const { return Vec3<T>::UnitZ(); }     // the centre of mass on the symmetry axis
 
   static LagrangeTop make(const T& I1, const T& I3, const T& b, const Vec3<T>& k = Vec3<T>::UnitZ()) {
     return {Vec3<T>(I1, I1, I3).asDiagonal(), b, k};
