@@ -57,7 +57,6 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
-#include <variant>
 #include <vector>
 
 namespace lgi::app {
@@ -260,24 +259,23 @@ int fit_command(const FitCommandOptions& options) {
   std::string report, full_report, reason;
   bool usable = false, budget = false;
   try {
-    const bool offered = std::visit(
-        [&](const auto& problem) {
-          using P = std::decay_t<decltype(problem)>;
-          if constexpr (std::is_same_v<P, FreeBody<double>> || std::is_same_v<P, HeavyTop<double>>) {
-            const fit::FitResult<P> r =
-                method == "lgvi" ? solve<Lgvi>(problem, spec) : solve<Rkmk4>(problem, spec);
-            result = result_json(spec, r, file);
-            report = brief(spec, r, file);
-            full_report = r.full_report;
-            usable = r.usable;
-            budget = r.budget_exhausted;
-            if (!usable) reason = unusable_reason(spec, r);
-            return true;
-          } else {
-            return false;
-          }
-        },
-        spec.scene.problem);
+    const auto fit_with = [&](const auto& problem) {
+      using P = std::decay_t<decltype(problem)>;
+      const fit::FitResult<P> r = method == "lgvi" ? solve<Lgvi>(problem, spec) : solve<Rkmk4>(problem, spec);
+      result = result_json(spec, r, file);
+      report = brief(spec, r, file);
+      full_report = r.full_report;
+      usable = r.usable;
+      budget = r.budget_exhausted;
+      if (!usable) reason = unusable_reason(spec, r);
+    };
+    bool offered = true;
+    if (const auto* body = problem_as<FreeBody<double>>(*spec.scene.problem))
+      fit_with(*body);
+    else if (const auto* top = problem_as<HeavyTop<double>>(*spec.scene.problem))
+      fit_with(*top);
+    else
+      offered = false;
     if (!offered)
       return fail(exit_bad_input, file + ": /problem/type: lgi fit offers the problems " + std::string(fit_problems) +
                                       " (a Lagrange or Kovalevskaya top is a heavy_top with its data; the library lgi::fit "

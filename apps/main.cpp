@@ -22,6 +22,7 @@
 // Outputs that are not regular files (-o -, /dev/null, a FIFO) are streamed to and never replaced
 // (apps/output_file.hpp); --checkpoint never replaces or removes a file that is not this run's checkpoint.
 // lgi run is single-threaded: the same scene gives the same bytes on every run.
+#include "plugin_loader.hpp"
 #include "registry.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
@@ -437,8 +438,13 @@ int list_command(bool markdown) {
   for (const auto& p : problem_registry()) {
     std::string keys;
     for (const auto& k : p.keys) keys += (keys.empty() ? "" : ", ") + std::string(k);
-    std::printf("  %-*s %s\n  %-*s keys: %s\n", pw, std::string(p.name).c_str(), std::string(p.summary).c_str(), pw, "",
-                keys.c_str());
+    std::string methods;
+    if (p.methods.size() == method_registry().size())
+      methods = "all";
+    else
+      for (const auto& m : p.methods) methods += (methods.empty() ? "" : ", ") + std::string(m);
+    std::printf("  %-*s %s\n  %-*s keys: %s\n  %-*s methods: %s\n", pw, std::string(p.name).c_str(),
+                std::string(p.summary).c_str(), pw, "", keys.c_str(), pw, "", methods.c_str());
   }
   int mw = 4;
   for (const auto& m : method_registry()) mw = std::max(mw, static_cast<int>(m.traits.name.size()));
@@ -507,6 +513,12 @@ int main(int argc, char** argv) {
   bool markdown = false;
   list->add_flag("--markdown", markdown, "Print the method table as markdown (the README's table)");
 
+  // Problem types from plugins (apps/plugin.hpp, docs/new_problem.md), for the commands that read scenes.
+  std::vector<std::string> plugins;
+  for (auto* sub : {run, fit, sweep, list})
+    sub->add_option("--plugin", plugins, "Load the problem types of the lgi plugin FILE (repeatable)")
+        ->type_name("FILE");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -527,6 +539,11 @@ int main(int argc, char** argv) {
     std::string where = "lgi";
     for (const auto* sub : app.get_subcommands()) where += " " + sub->get_name();
     return fail(exit_bad_input, where + ": " + e.what() + " (" + where + " --help)");
+  }
+  try {
+    for (const std::string& plugin : plugins) lgi::app::load_plugin(plugin);
+  } catch (const lgi::app::InputError& e) {
+    return fail(exit_bad_input, e.what());
   }
   try {
     if (run->parsed()) return run_command(run_options);

@@ -5,7 +5,9 @@
 
 #include <Eigen/SVD>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 namespace lgi::app {
@@ -41,22 +43,44 @@ Mat3<double> read_rotation(const Node& node) {
   return svd.matrixU() * svd.matrixV().transpose();  // polar factor: the nearest rotation
 }
 
+Vec3<double> read_principal_inertia(const Node& node, std::string_view why) {
+  const Mat3<double> J = read_inertia(node);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      if (r != c && J(r, c) != 0)
+        node.fail("must be diagonal (" + std::string(why) + "): I" + std::to_string(r + 1) + std::to_string(c + 1) +
+                  " = " + format_number(J(r, c)));
+  return J.diagonal();
+}
+
+bool nearly_equal(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)); }
+
+// The built-in problem types (apps/problems/ID.cpp).
+#ifndef LGI_PROBLEM_LIST
+#define LGI_PROBLEM_LIST "problems/list.def"
+#endif
+#define LGI_PROBLEM(id) const ProblemInfo& problem_info_##id();
+#include LGI_PROBLEM_LIST
+#undef LGI_PROBLEM
+
 namespace {
 
 template <template <class> class... Ms>
 std::vector<MethodInfo> method_table(MethodList<Ms...>) {
-  return {MethodInfo{Ms<FreeBody<double>>::traits}...};
+  std::vector<MethodInfo> table;
+  ((method_enabled(Ms<FreeBody<double>>::traits.name) ? table.push_back(MethodInfo{Ms<FreeBody<double>>::traits})
+                                                      : void()),
+   ...);
+  return table;
 }
 
-// (method name, problem name) for every pair where the method applies.
-template <class... Ps, template <class> class... Ms>
-std::vector<std::pair<std::string_view, std::string_view>> applicability(ProblemList<Ps...>, MethodList<Ms...>) {
-  std::vector<std::pair<std::string_view, std::string_view>> pairs;
-  const auto add_problem = [&]<class P>() {
-    ((method_applies_v<Ms, P> ? (void)pairs.emplace_back(Ms<FreeBody<double>>::traits.name, P::name) : (void)0), ...);
+std::vector<ProblemInfo>& problem_table() {
+  static std::vector<ProblemInfo> table = {
+#define LGI_PROBLEM(id) problem_info_##id(),
+#include LGI_PROBLEM_LIST
+#undef LGI_PROBLEM
   };
-  (add_problem.template operator()<Ps>(), ...);
-  return pairs;
+  return table;
 }
 
 template <class T>
@@ -77,14 +101,12 @@ std::string join_names(const T& table, std::string_view problem = {}) {
 
 }  // namespace
 
-std::span<const ProblemInfo> problem_registry() {
-  static const std::vector<ProblemInfo> table = [] {
-    std::vector<ProblemInfo> all;
-    for (auto family : {foundation_problem_infos(), library_problem_infos(), paper_problem_infos()})
-      for (auto& info : family) all.push_back(std::move(info));
-    return all;
-  }();
-  return table;
+std::span<const ProblemInfo> problem_registry() { return problem_table(); }
+
+bool add_problem(const ProblemInfo& info) {
+  if (find_problem(info.name)) return false;
+  problem_table().push_back(info);
+  return true;
 }
 
 std::span<const MethodInfo> method_registry() {
@@ -105,10 +127,8 @@ const MethodInfo* find_method(std::string_view name) {
 }
 
 bool method_applies(std::string_view method, std::string_view problem) {
-  static const auto pairs = applicability(Problems{}, Methods{});
-  for (const auto& [m, p] : pairs)
-    if (m == method && p == problem) return true;
-  return false;
+  const ProblemInfo* p = find_problem(problem);
+  return p && std::find(p->methods.begin(), p->methods.end(), method) != p->methods.end();
 }
 
 std::string known_methods(std::string_view problem) { return join_names(method_registry(), problem); }

@@ -1,16 +1,18 @@
 // lgi/apps/registry.hpp — the one place where scene names meet C++ types.
 //
-// Methods and problems come in families, one header each (methods_<family>.hpp, problems_<family>.hpp,
-// the latter with a .cpp holding the scene parsers), concatenated here:
-//   adding a method:  its template name in its family's MethodList;
-//   adding a problem: its type in its family's ProblemList and one ProblemInfo (name, keys, parser) in
-//                     the family's table.
-// Name lookup happens once, when a scene is loaded; after that everything is compiled for the concrete
-// problem and method. A method applies to a problem when Method<Problem> is a Stepper (a method whose
-// template constraints reject a problem is not offered for it).
+// Methods come in families, one header each (methods_<family>.hpp), concatenated here; adding a method is its
+// template name in its family's MethodList. A method applies to a problem when Method<Problem> is a Stepper (a
+// method whose template constraints reject a problem is not offered for it).
+// Problems: one file each in apps/problems/ (its parser and LGI_DEFINE_PROBLEM, problem_model.hpp) and one line in
+// apps/problems/list.def, whose order is `lgi list`'s; plugins add theirs at run time (plugin.hpp). Name lookup
+// happens once, when a scene is loaded; the scene then holds its problem as a ProblemModel.
 #pragma once
 
 #include "json_reader.hpp"
+
+#ifdef LGI_ENABLED_METHODS_HEADER
+#include LGI_ENABLED_METHODS_HEADER
+#endif
 
 #include <lgi/core/integrator.hpp>
 #include <lgi/core/state.hpp>
@@ -18,15 +20,12 @@
 #include <span>
 #include <string>
 #include <string_view>
-#include <variant>
 #include <vector>
 
 namespace lgi::app {
 
 template <template <class> class... Ms>
 struct MethodList {};
-template <class... Ps>
-struct ProblemList {};
 
 namespace detail {
 template <class... Lists>
@@ -37,19 +36,29 @@ struct concat<L> {
 };
 template <template <class> class... A, template <class> class... B, class... Rest>
 struct concat<MethodList<A...>, MethodList<B...>, Rest...> : concat<MethodList<A..., B...>, Rest...> {};
-template <class... A, class... B, class... Rest>
-struct concat<ProblemList<A...>, ProblemList<B...>, Rest...> : concat<ProblemList<A..., B...>, Rest...> {};
-template <class L>
-struct variant_of;
-template <class... Ps>
-struct variant_of<ProblemList<Ps...>> {
-  using type = std::variant<Ps...>;
-};
 }  // namespace detail
 
-// Method<P> exists (its constraints accept P) and is a Stepper.
+// A build may offer a subset of the methods: LGI_METHODS in lgi's CMake, METHODS of lgi_add_plugin (a generated
+// header defining LGI_ENABLED_METHODS as a list of names). True for every method otherwise.
+constexpr bool method_enabled(std::string_view name) {
+#ifdef LGI_ENABLED_METHODS
+  for (const std::string_view m : {LGI_ENABLED_METHODS})
+    if (m == name) return true;
+  return false;
+#else
+  (void)name;
+  return true;
+#endif
+}
+
+// Method<P> exists (its constraints accept P), is a Stepper, and this build offers it.
 template <template <class> class Method, class P>
-inline constexpr bool method_applies_v = requires { typename Method<P>; } && Stepper<Method<P>>;
+inline constexpr bool method_applies_v = [] {
+  if constexpr (requires { typename Method<P>; }) {
+    if constexpr (Stepper<Method<P>>) return method_enabled(Method<P>::traits.name);
+  }
+  return false;
+}();
 
 // f.template operator()<M>() for every method M of the list that applies to P, in the list's order.
 template <class P, template <class> class... Ms, class F>
@@ -67,34 +76,72 @@ void for_each_method(MethodList<Ms...>, F&& f) {
 #include "methods_library.hpp"
 #include "methods_rkmk.hpp"
 #include "methods_splitting.hpp"
-#include "problems_foundation.hpp"
-#include "problems_library.hpp"
-#include "problems_paper.hpp"
+#include "problems/euler_angle_methods.hpp"
+
+#include <memory>
+#include <typeinfo>
 
 namespace lgi::app {
 
 using Methods =
     typename detail::concat<FoundationMethods, RkmkFamilyMethods, SplittingMethods, CompositionMethods, LibraryMethods>::type;
-using Problems = typename detail::concat<FoundationProblems, LibraryProblems, PaperProblems>::type;
-using AnyProblem = typename detail::variant_of<Problems>::type;
 
+namespace runner_detail {
+class ProblemRunner;
+}
+
+// What a problem gives the sweeps' state functions: J, and for tops k and z0.
+struct BodyData {
+  Mat3<double> J = Mat3<double>::Identity();
+  bool has_gravity = false;
+  Vec3<double> k = Vec3<double>::UnitZ(), z0 = Vec3<double>::UnitZ();
+};
+
+// A scene's problem with its parameters, behind an interface (problem_model.hpp implements it for any problem type).
+class ProblemModel {
+ public:
+  virtual ~ProblemModel() = default;
+  virtual std::string_view type_name() const = 0;
+  // The problem's own CSV columns after orthogonality_error; the first integral_count() of them are integrals of
+  // the motion (the Euler-angle top's last ones are coordinates).
+  virtual std::vector<std::string_view> invariant_names() const = 0;
+  virtual std::size_t integral_count() const = 0;
+  virtual bool on_group() const = 0;     // its state is on SO(3) × R³ (integrator options apply)
+  virtual bool torque_free() const = 0;  // no torque: methods of higher order on free bodies show that order
+  virtual bool projectable() const = 0;  // "projection": true is accepted (integrators/projection.hpp)
+  virtual BodyData body() const = 0;
+  // The scene's method on this problem and its rows (runner_detail.hpp).
+  virtual std::unique_ptr<runner_detail::ProblemRunner> runner() const = 0;
+  // The columns of a row (csv_header) for a state on SO(3) (std::logic_error for a problem not on SO(3)).
+  virtual void state_columns(double t, const State<double>& x, std::vector<double>& out) const = 0;
+  // The problem object when it is of that type, else nullptr (problem_as below).
+  virtual const void* get(const std::type_info& type) const = 0;
+};
+
+// The problem of type P a model holds, or nullptr (the batched sweep and lgi fit take some types).
+template <class P>
+const P* problem_as(const ProblemModel& model) {
+  return static_cast<const P*>(model.get(typeid(P)));
+}
+
+// A problem type the command knows (problem_model.hpp, problem_info).
 struct ProblemInfo {
   std::string_view name;
   std::string_view summary;
   std::vector<std::string_view> keys;  // the keys its "problem" object takes
-  AnyProblem (*parse)(const Node& problem);
+  std::shared_ptr<const ProblemModel> (*parse)(const Node& problem);
+  std::vector<std::string_view> methods;  // the methods that apply to it, in the method table's order
+  bool on_group = true;                   // its state is on SO(3) × R³
 };
 
 struct MethodInfo {
   MethodTraits traits;
 };
 
-// Each problem family's table (problems_<family>.cpp).
-std::vector<ProblemInfo> foundation_problem_infos();
-std::vector<ProblemInfo> library_problem_infos();
-std::vector<ProblemInfo> paper_problem_infos();
-
+// The problem types: those of apps/problems/list.def, in its order, then those plugins added.
 std::span<const ProblemInfo> problem_registry();
+// Adds a problem type (a plugin's); false when its name is taken.
+bool add_problem(const ProblemInfo& info);
 std::span<const MethodInfo> method_registry();
 const ProblemInfo* find_problem(std::string_view name);
 const MethodInfo* find_method(std::string_view name);
@@ -111,5 +158,10 @@ Mat3<double> read_inertia(const Node& node);
 Vec3<double> read_unit_vector(const Node& node);
 // A rotation matrix, accepted within 1e-9 (‖RᵀR − I‖_F, det > 0) and returned as the nearest rotation.
 Mat3<double> read_rotation(const Node& node);
+// A body-frame inertia tensor that must be diagonal (principal axes: the library's tops are written in them);
+// `why` is said when it is not. Returns the principal moments.
+Vec3<double> read_principal_inertia(const Node& node, std::string_view why);
+// a = b to a relative 1e-12.
+bool nearly_equal(double a, double b);
 
 }  // namespace lgi::app

@@ -17,7 +17,6 @@
 #include <filesystem>
 #include <stdexcept>
 #include <type_traits>
-#include <variant>
 
 namespace lgi::app {
 
@@ -129,55 +128,31 @@ bool Checkpointer::write(const Cursor& c, std::span<const double> internal, doub
 
 
 std::string csv_header(const Scene& scene) {
-  return std::visit([](const auto& p) { return runner_detail::header_for<std::decay_t<decltype(p)>>(); }, scene.problem);
+  std::string h = "t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega1,omega2,omega3,energy,orthogonality_error";
+  for (const std::string_view name : scene.problem->invariant_names()) {
+    h += ',';
+    h += name;
+  }
+  return h;
 }
 
 std::vector<std::string> integral_names(const Scene& scene) {
-  return std::visit(
-      [](const auto& p) {
-        using P = std::decay_t<decltype(p)>;
-        std::vector<std::string> names;
-        for (std::size_t i = 0; i < runner_detail::integral_count<P>(); ++i) names.emplace_back(P::invariant_names[i]);
-        return names;
-      },
-      scene.problem);
+  const std::vector<std::string_view> all = scene.problem->invariant_names();
+  return {all.begin(), all.begin() + static_cast<std::ptrdiff_t>(scene.problem->integral_count())};
 }
 
 std::vector<double> state_columns(const Scene& scene, double t, const State<double>& x) {
-  return std::visit(
-      [&](const auto& p) {
-        using P = std::decay_t<decltype(p)>;
-        std::vector<double> c;
-        if constexpr (std::is_same_v<P, EulerAngleTop<double>>) {
-          throw std::logic_error("lgi: state_columns of the Euler-angle top");
-        } else {
-          c.push_back(t);
-          for (int r = 0; r < 3; ++r)
-            for (int k = 0; k < 3; ++k) c.push_back(x.R(r, k));
-          for (int i = 0; i < 3; ++i) c.push_back(x.Omega(i));
-          c.push_back(energy_at(p, t, x));
-          c.push_back(so3::orthogonality_error(x.R));
-          for (const double v : invariants_at(p, t, x)) c.push_back(v);
-        }
-        return c;
-      },
-      scene.problem);
+  std::vector<double> c;
+  scene.problem->state_columns(t, x, c);
+  return c;
 }
 
 std::string brief_report(const Scene& scene, const RunReport& r) {
   const MethodTraits& m = scene.method->traits;
-  const std::string problem = std::visit([](const auto& p) { return std::string(p.name); }, scene.problem);
-  const bool euler_angles = problem == EulerAngleTop<double>::name;  // its own path: RK on the angles
+  const std::string problem(scene.problem->type_name());
+  const bool euler_angles = !scene.problem->on_group();  // its own path: RK on the angles
   // A method whose order is higher without torque (preprocessed DMV) shows that order on a torque-free problem.
-  const bool torque_free = std::visit(
-      [](const auto& p) {
-        using P = std::decay_t<decltype(p)>;
-        if constexpr (RigidBodyProblem<P>)
-          return !P::has_torque;
-        else
-          return false;
-      },
-      scene.problem);
+  const bool torque_free = scene.problem->torque_free();
   const int order = torque_free && m.free_body_order > 0 ? m.free_body_order : m.order;
   char buf[512];
   std::string s;

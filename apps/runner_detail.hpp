@@ -2,8 +2,8 @@
 //
 // A run is compiled once (apps/session.cpp) against two interfaces: lgi::Integrator (core/engine.hpp), the scene's
 // method on its problem, and ProblemRunner below, the problem's columns and hooks. Only these are compiled per
-// problem: every method that applies to it (with and without projection), in one runner part per problem
-// (runner_part.cpp.in, configured by apps/CMakeLists.txt; run_scene.cpp dispatches on the scene's problem).
+// problem: every method that applies to it (with and without projection), in the problem's registration
+// (problem_model.hpp: apps/problems/ID.cpp, or a plugin); the scene's ProblemModel makes its runner.
 #pragma once
 
 #include "runner.hpp"
@@ -108,16 +108,6 @@ template <class P>
 constexpr std::size_t integral_count() {
   if constexpr (requires { P::integral_count; }) return P::integral_count;
   else return P::invariant_names.size();
-}
-
-template <class P>
-std::string header_for() {
-  std::string h = "t,R11,R12,R13,R21,R22,R23,R31,R32,R33,omega1,omega2,omega3,energy,orthogonality_error";
-  for (const auto& name : P::invariant_names) {
-    h += ',';
-    h += name;
-  }
-  return h;
 }
 
 // The monitor of one invocation: stops the run on a signal, when the wall-clock budget is spent, or after the

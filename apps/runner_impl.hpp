@@ -1,6 +1,6 @@
 // lgi/apps/runner_impl.hpp — the per-problem part of a run: the scene's method as an lgi::Integrator (every method
-// that applies to the problem, with and without projection), the row columns and the problem's hooks. Included only
-// by the runner parts (runner_part.cpp.in), each of which instantiates make_problem_runner for one problem.
+// that applies to the problem, with and without projection), the row columns and the problem's hooks. Included by
+// problem_model.hpp: a problem's registration (apps/problems/ID.cpp, or a plugin) instantiates make_problem_runner.
 #pragma once
 
 #include "runner_detail.hpp"
@@ -71,7 +71,7 @@ class ProblemRunnerOf final : public ProblemRunner {
 
 // The seed paper's Euler-angle top (problems/euler_angle_top.hpp): its state (φ, θ, ψ, φ', θ', m_ψ, Φ, Ψ) is not on SO(3):
 // the scene's RKMK tableau runs as plain Runge–Kutta on the angles (integrators/euclidean_rk.hpp,
-// apps/problems_paper.hpp), with the library's domain-checked step (CheckedEuclideanStep: a step that takes sin θ
+// apps/problems/euler_angle_methods.hpp), with the library's domain-checked step (CheckedEuclideanStep: a step that takes sin θ
 // below min_sin_theta fails, the state untouched, and says so) and the problem's map to (R, Ω). Its columns are the
 // standard ones (R by (6.3), Ω from the angle rates, the total energy) and the problem's own, from the angles. A
 // step that leaves the domain ends the run (status `stopped`, a warning with the time on stderr, the last admissible

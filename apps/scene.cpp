@@ -96,8 +96,8 @@ Scene parse_scene(const json& document, const std::string& file) {
     integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type +
                                  " (methods that do: " + known_methods(type) + ")");
   std::vector<std::string_view> keys = {"method", "dt"};
-  // A problem whose state is not on SO(3) runs the method's tableau with fixed steps (problems_paper.hpp).
-  const bool takes_options = !runs_off_group(type);
+  // A problem whose state is not on SO(3) runs the method's tableau with fixed steps (problems/euler_angle_methods.hpp).
+  const bool takes_options = info->on_group;  // a problem not on SO(3): fixed steps of the tableau, no options
   for (const std::string_view key : scene.method->traits.options)
     if (!key.empty() && takes_options) keys.push_back(key);
   // rtol/atol or projection on a method that does not take them: say why, before the generic unknown-key error.
@@ -133,8 +133,7 @@ Scene parse_scene(const json& document, const std::string& file) {
   }
   if ((scene.options.rtol > 0) != (scene.options.atol > 0))
     integrator.fail("an adaptive run needs both \"rtol\" and \"atol\" (fixed steps: neither)");
-  if (scene.options.projection &&
-      !std::visit([](const auto& p) { return ProjectableProblem<std::decay_t<decltype(p)>>; }, scene.problem))
+  if (scene.options.projection && !scene.problem->projectable())
     integrator.at("projection").fail("problem " + type + " has a time-dependent torque: no energy to project onto");
 
   // t_end and the number of steps it implies

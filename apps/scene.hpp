@@ -26,7 +26,7 @@ namespace lgi::app {
 
 struct Scene {
   std::string file;
-  AnyProblem problem;
+  std::shared_ptr<const ProblemModel> problem;  // the problem type and its parameters
   State<double> initial;
   const MethodInfo* method = nullptr;
   double dt = 0;

@@ -13,7 +13,6 @@
 #include <memory>
 #include <span>
 #include <string>
-#include <variant>
 #include <vector>
 
 namespace lgi::app {
@@ -313,14 +312,8 @@ RunReport run_session(const ProblemRunner& problem, const Scene& scene, const Ru
 
 }  // namespace runner_detail
 
-// LGI_RUNNER_PARTS: the number of runner parts apps/CMakeLists.txt configures.
-static_assert(std::variant_size_v<AnyProblem> == LGI_RUNNER_PARTS,
-              "a problem was added to the registry: raise LGI_RUNNER_PARTS in apps/CMakeLists.txt to the number "
-              "of problems, so that its runner part is compiled");
-
 RunReport run_scene(const Scene& scene, const RunOptions& options) {
-  const std::unique_ptr<runner_detail::ProblemRunner> problem =
-      std::visit([](const auto& p) { return runner_detail::make_problem_runner(p); }, scene.problem);
+  const std::unique_ptr<runner_detail::ProblemRunner> problem = scene.problem->runner();
   return runner_detail::run_session(*problem, scene, options);
 }
 

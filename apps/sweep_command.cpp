@@ -38,7 +38,6 @@
 #include <span>
 #include <sstream>
 #include <thread>
-#include <variant>
 #include <vector>
 
 namespace lgi::app {
@@ -148,16 +147,16 @@ inline constexpr std::int64_t batch_block_work = std::int64_t{1} << 22;
 
 // The number of steps of each member when the sweep qualifies for the batched path (0 otherwise; `why` says why).
 std::int64_t batch_steps(const Sweep& s, const Scene& scene0, std::string& why) {
-  const bool heavy = std::holds_alternative<HeavyTop<double>>(scene0.problem);
-  const bool free_body = std::holds_alternative<FreeBody<double>>(scene0.problem);
+  const HeavyTop<double>* top = problem_as<HeavyTop<double>>(*scene0.problem);
+  const FreeBody<double>* body = problem_as<FreeBody<double>>(*scene0.problem);
+  const bool heavy = top != nullptr, free_body = body != nullptr;
   const auto no = [&](const std::string& reason) {
     why = reason;
     return std::int64_t{0};
   };
   if (scene0.method->traits.name != "lgvi") return no("the method is not lgvi");
   if (!heavy && !free_body) return no("the problem is not heavy_top or free_body");
-  const Mat3<double>& J = heavy ? std::get<HeavyTop<double>>(scene0.problem).inertia
-                                : std::get<FreeBody<double>>(scene0.problem).inertia;
+  const Mat3<double>& J = heavy ? top->inertia : body->inertia;
   if (!Inertia<double>(J).diagonal) return no("the inertia tensor is not diagonal");
   for (const SweepKey& key : s.keys)
     if (key.pointer.rfind("/initial/", 0) != 0 && !(heavy && key.pointer == "/problem/b"))
@@ -197,21 +196,18 @@ std::vector<MemberResult> run_batch(const Sweep& s, std::int64_t k_begin, std::i
     values[i] = member_values(s, m);
     scenes.push_back(member_scene(s, values[i], member_label(s, m, values[i])));
     batch.set_state(i, scenes[i].initial);
-    if (const auto* top = std::get_if<HeavyTop<double>>(&scenes[i].problem)) b.push_back(top->b);
+    if (const auto* top = problem_as<HeavyTop<double>>(*scenes[i].problem)) b.push_back(top->b);
   }
   const Scene& scene0 = scenes.front();
   const double dt = scene0.dt;
   member = shard + k_begin * shards;
-  std::visit(
-      [&](const auto& problem) {
-        using P = std::decay_t<decltype(problem)>;
-        if constexpr (LgviBatchProblem<P>)
-          kernel = integrate_batch_lgvi(problem, batch, 0.0, dt, n_steps, scene0.options, BatchOptions{1},
-                                        std::span<const double>(b));
-        else
-          throw std::logic_error("lgi sweep: a batch of problem " + std::string(P::name));
-      },
-      scene0.problem);
+  // The two problem types batch_steps admits.
+  if (const auto* top = problem_as<HeavyTop<double>>(*scene0.problem))
+    kernel = integrate_batch_lgvi(*top, batch, 0.0, dt, n_steps, scene0.options, BatchOptions{1}, std::span<const double>(b));
+  else if (const auto* body = problem_as<FreeBody<double>>(*scene0.problem))
+    kernel = integrate_batch_lgvi(*body, batch, 0.0, dt, n_steps, scene0.options, BatchOptions{1}, std::span<const double>(b));
+  else
+    throw std::logic_error("lgi sweep: a batch of problem " + std::string(scene0.problem->type_name()));
 
   std::vector<MemberResult> results;
   results.reserve(count);
@@ -228,19 +224,13 @@ std::vector<MemberResult> run_batch(const Sweep& s, std::int64_t k_begin, std::i
     }
     r.final_state = batch.steps[i] > 0 ? batch.state(i) : scene.initial;  // not moved: the state as given
     r.final_columns = state_columns(scene, r.summary.t, r.final_state);
-    std::visit(
-        [&](const auto& problem) {
-          using P = std::decay_t<decltype(problem)>;
-          if constexpr (LgviBatchProblem<P>) {
-            r.energy_initial = energy_at(problem, 0.0, scene.initial);
-            r.energy_final = energy_at(problem, r.summary.t, r.final_state);
-            const auto inv0 = invariants_at(problem, 0.0, scene.initial);
-            const auto inv1 = invariants_at(problem, r.summary.t, r.final_state);
-            for (std::size_t j = 0; j < inv0.size(); ++j)
-              r.invariants.push_back({std::string(P::invariant_names[j]), inv0[j], inv1[j]});
-          }
-        },
-        scene.problem);
+    // The energy and the integrals, initial and final, from the columns (as the session does).
+    const std::vector<double> initial = state_columns(scene, 0.0, scene.initial);
+    r.energy_initial = initial[13];
+    r.energy_final = r.final_columns[13];
+    const std::vector<std::string> names = integral_names(scene);
+    for (std::size_t j = 0; j < names.size(); ++j)
+      r.invariants.push_back({names[j], initial[15 + j], r.final_columns[15 + j]});
     results.push_back(member_result(s, shard + (k_begin + static_cast<std::int64_t>(i)) * shards, values[i], r, nullptr));
   }
   return results;

@@ -83,7 +83,7 @@ std::vector<double> read_axis(const Node& node) {
 // The in-run sections of the sweep: /sweep/extrema, /sweep/section, /sweep/lyapunov (sweep_observe.hpp).
 void read_observe(const Node& sweep, const Scene& scene0, ObserveSpec& spec) {
   const BodyData body = body_data(scene0);
-  const std::string type = std::visit([](const auto& p) { return std::string(p.name); }, scene0.problem);
+  const std::string type(scene0.problem->type_name());
   const bool adaptive = scene0.options.rtol > 0;
   if (const auto extrema = sweep.find("extrema")) {
     if (!extrema->is_array() || extrema->size() == 0)

@@ -8,31 +8,10 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
-#include <variant>
 
 namespace lgi::app {
 
-BodyData body_data(const Scene& scene) {
-  return std::visit(
-      [](const auto& p) {
-        using P = std::decay_t<decltype(p)>;
-        const auto body = [](const auto& q) {  // a RigidBodyProblem
-          BodyData d;
-          d.J = q.inertia;
-          if constexpr (UniformGravityProblem<std::decay_t<decltype(q)>>) {
-            d.has_gravity = true;
-            d.k = q.gravity_axis();
-            d.z0 = q.mass_axis();
-          }
-          return d;
-        };
-        if constexpr (CoordinateProblem<P>)
-          return body(p.heavy_top());  // the same top on SO(3)
-        else
-          return body(p);
-      },
-      scene.problem);
-}
+BodyData body_data(const Scene& scene) { return scene.problem->body(); }
 
 double StateFunction::operator()(const State<double>& x, const BodyData& body) const {
   switch (kind) {

@@ -54,12 +54,7 @@ inline void append_csv_number(std::string& out, double x) {
   out.append(buf, r.ptr);
 }
 
-// What a member's problem gives the state functions: J, and for tops k and z0.
-struct BodyData {
-  Mat3<double> J = Mat3<double>::Identity();
-  bool has_gravity = false;
-  Vec3<double> k = Vec3<double>::UnitZ(), z0 = Vec3<double>::UnitZ();
-};
+// What a member's problem gives the state functions (registry.hpp, BodyData).
 BodyData body_data(const Scene& scene);
 
 struct StateFunction {

@@ -58,7 +58,6 @@
 #include <string>
 #include <sys/utsname.h>
 #include <type_traits>
-#include <variant>
 #include <vector>
 
 #ifndef LGI_SOURCE_DIR
@@ -164,32 +163,26 @@ Case load_case(const fs::path& file) {
   c.file = file.string();
   c.x0 = scene.initial;
   c.t_end = scene.t_end;
-  const bool ok = std::visit(
-      [&](const auto& p) {
-        using P = std::decay_t<decltype(p)>;
-        if constexpr (std::is_same_v<P, lgi::FreeBody<double>>) {
-          c.kind = Kind::free_body;
-          c.free_body = p;
-          c.body = {p.inertia, 0.0, Vec3::UnitZ(), Vec3::UnitZ()};
-          c.heavy_top = {p.inertia, 0.0, Vec3::UnitZ(), Vec3::UnitZ()};
-          return true;
-        } else if constexpr (std::is_same_v<P, lgi::HeavyTop<double>>) {
-          c.kind = Kind::heavy_top;
-          c.heavy_top = p;
-          c.body = {p.inertia, p.b, p.k, p.z0};
-          return true;
-        } else if constexpr (std::is_same_v<P, lgi::LagrangeTop<double>>) {
-          c.kind = Kind::lagrange_top;
-          c.lagrange_top = p;
-          c.heavy_top = {p.inertia, p.b, p.k, Vec3::UnitZ()};
-          c.body = {p.inertia, p.b, p.k, Vec3::UnitZ()};
-          return true;
-        } else {
-          return false;
-        }
-      },
-      scene.problem);
-  std::visit([&](const auto& p) { c.problem_type = std::string(std::decay_t<decltype(p)>::name); }, scene.problem);
+  const lgi::app::ProblemModel& model = *scene.problem;
+  c.problem_type = std::string(model.type_name());
+  bool ok = true;
+  if (const auto* p = lgi::app::problem_as<lgi::FreeBody<double>>(model)) {
+    c.kind = Kind::free_body;
+    c.free_body = *p;
+    c.body = {p->inertia, 0.0, Vec3::UnitZ(), Vec3::UnitZ()};
+    c.heavy_top = {p->inertia, 0.0, Vec3::UnitZ(), Vec3::UnitZ()};
+  } else if (const auto* h = lgi::app::problem_as<lgi::HeavyTop<double>>(model)) {
+    c.kind = Kind::heavy_top;
+    c.heavy_top = *h;
+    c.body = {h->inertia, h->b, h->k, h->z0};
+  } else if (const auto* l = lgi::app::problem_as<lgi::LagrangeTop<double>>(model)) {
+    c.kind = Kind::lagrange_top;
+    c.lagrange_top = *l;
+    c.heavy_top = {l->inertia, l->b, l->k, Vec3::UnitZ()};
+    c.body = {l->inertia, l->b, l->k, Vec3::UnitZ()};
+  } else {
+    ok = false;
+  }
   if (!ok)
     throw std::runtime_error(c.file + ": /problem/type: the benchmark runs free_body, heavy_top and lagrange_top, not " +
                              c.problem_type);

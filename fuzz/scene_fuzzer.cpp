@@ -7,36 +7,27 @@
 //     libFuzzer reports it as a crash;
 //   - an accepted scene is runnable: dt > 0 and finite, 0 ≤ t_end finite, t_end/dt within
 //     max_scene_steps, R on SO(3) to 1e-12, Ω finite, output times increasing within [0, t_end].
-// Then the accepted scene runs ten steps (t_end clamped to 10·dt, output times beyond it dropped)
-// through the same drivers `lgi run` uses, with a small fixed method set rather than the scene's
-// method — the whole method × problem table under ASan would cost the CI minutes of compile time
-// (apps/runner_detail.hpp): LGVI (implicit, Newton with the scene's tolerance and max_iterations) and
-// RKMK4 (explicit; projected when the scene asks for projection) on SO(3) problems, classical RK4 on the
-// Euler-angle top's R^6 state. A step may fail (non-finite, Newton not converged): that is a status, not
-// a crash; what it must not do is trip ASan or UBSan, throw, or hang.
+// Then the accepted scene runs ten steps (t_end clamped to 10·dt, output times beyond it dropped) through
+// the engine `lgi run` uses (run_scene), built with the methods of LGI_FUZZ_METHODS (fuzz/CMakeLists.txt):
+// the whole method × problem table under ASan would cost the CI minutes of compile time. A step may fail
+// (non-finite, Newton not converged): that is a status, not a crash; what it must not do is trip ASan or
+// UBSan, throw, or hang.
 //
 // Build and run: scripts/fuzz.sh (clang++ -fsanitize=fuzzer,address,undefined; fuzz/CMakeLists.txt).
 #include "json_reader.hpp"
 #include "registry.hpp"
+#include "runner.hpp"
 #include "scene.hpp"
 
-#include <lgi/core/driver.hpp>
 #include <lgi/core/so3.hpp>
-#include <lgi/integrators/euclidean_rk.hpp>
-#include <lgi/integrators/lgvi.hpp>
-#include <lgi/integrators/projection.hpp>
-#include <lgi/integrators/rkmk.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <span>
 #include <string>
 #include <string_view>
-#include <type_traits>
-#include <variant>
 #include <vector>
 
 namespace {
@@ -76,49 +67,12 @@ void check_scene(const Scene& s) {
   if (s.output_every < 0) contract_violated("output.every", std::to_string(s.output_every));
 }
 
-// Ten steps of stepper S on the scene's grid: integrate_times (output times up to the clamped end) or
-// integrate_every, as the runner does (apps/runner_impl.hpp).
-template <class S>
-void ten_steps(S& stepper, const Scene& scene, double t_end) {
-  State<double> x = scene.initial;
-  if (!scene.output_times.empty()) {
-    std::vector<double> times;
-    for (const double t : scene.output_times)
-      if (t <= t_end) times.push_back(t);
-    if (times.empty() || times.back() < t_end) times.push_back(t_end);
-    (void)integrate_times(stepper, x, 0.0, scene.dt, std::span<const double>(times));
-  } else {
-    const std::int64_t every = scene.output_every > 0 ? scene.output_every : std::int64_t{1} << 62;
-    (void)integrate_every(stepper, x, 0.0, scene.dt, t_end, every);
-  }
-}
-
-template <class P>
-void run(const P& problem, const Scene& scene, double t_end) {
-  if constexpr (std::is_same_v<P, EulerAngleTop<double>>) {
-    // The Euler-angle top: the runner's own path (plain RK on R^6), as for "rkmk4" in a scene.
-    const EuclideanRk<tableaus::classical_rk4, EulerAngleTop<double>> stepper(problem);
-    typename EulerAngleTop<double>::Vector y = problem.from_state(scene.initial);
-    if (!problem.admissible(y)) return;  // the runner stops at t = 0 (apps/runner_impl.hpp)
-    const std::int64_t every = scene.output_every > 0 ? scene.output_every : std::int64_t{1} << 62;
-    (void)integrate_every_euclidean(stepper, y, 0.0, scene.dt, t_end, every);
-  } else {
-    if constexpr (method_applies_v<Lgvi, P>) {
-      Lgvi<P> lgvi(problem, scene.options);
-      ten_steps(lgvi, scene, t_end);
-    }
-    if constexpr (method_applies_v<Rkmk4, P>) {
-      if constexpr (ProjectableStepper<Rkmk4<P>>) {
-        if (scene.options.projection) {
-          Projected<Rkmk4<P>> projected(problem, scene.options);
-          ten_steps(projected, scene, t_end);
-          return;
-        }
-      }
-      Rkmk4<P> rkmk4(problem, scene.options);
-      ten_steps(rkmk4, scene, t_end);
-    }
-  }
+// Ten steps of the scene as `lgi run` takes them (apps/runner.hpp run_scene: the engine, the scene's method with
+// its options), without rows: t_end clamped to 10·dt, output times beyond it dropped.
+void ten_steps(Scene scene) {
+  scene.t_end = std::min(scene.t_end, 10 * scene.dt);
+  std::erase_if(scene.output_times, [&](double t) { return t > scene.t_end; });
+  (void)run_scene(scene, RunOptions{});
 }
 
 }  // namespace
@@ -135,7 +89,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   check_scene(scene);
-  const double t_end = std::min(scene.t_end, 10 * scene.dt);
-  std::visit([&](const auto& problem) { run(problem, scene, t_end); }, scene.problem);
+  ten_steps(std::move(scene));
   return 0;
 }

@@ -351,7 +351,7 @@ struct AxisPotentialProblem {
 };
 
 // ---------------------------------------------------------------------------------------------------
-// FieldPotential: the potential of the scene problem "potential" (apps/problems_library.cpp), data only,
+// FieldPotential: the potential of the scene problem "potential" (apps/problems/potential.cpp), data only,
 // so that a scene file can state it:
 //
 //   V(R) = Σ_j b_j k_j·(R z_j)  +  ½ c a·(R Q Rᵀ a)

@@ -4,7 +4,7 @@
 //   - a run stopped by a budget, SIGTERM, or SIGKILL after a checkpoint, resumed from its checkpoint, writes the
 //     very bytes of the uninterrupted run (LGVI, RKMK4, adaptive DP5, splitting, composition, projection, the
 //     Euler-angle path);
-//   - the runner's drivers (apps/runner_drive.hpp) step exactly as the library's (core/driver.hpp,
+//   - `lgi run` (the engine, apps/session.cpp) steps exactly as the library's (core/driver.hpp,
 //     integrators/adaptive.hpp): the rows' R and Ω equal the library's states bit for bit;
 //   - the same scene gives the same bytes on every run, with or without checkpoints.
 #include <lgi/core/driver.hpp>

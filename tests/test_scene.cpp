@@ -29,7 +29,7 @@ const char* kScene = R"({
 
 TEST(Scene, DiagonalShorthandAndDefaults) {
   const Scene s = parse(kScene);
-  const auto& top = std::get<HeavyTop<double>>(s.problem);
+  const auto& top = *problem_as<HeavyTop<double>>(*s.problem);
   EXPECT_EQ(top.inertia, Mat3<double>(Vec3<double>(0.6, 0.8, 1.0).asDiagonal()));
   EXPECT_EQ(top.k, Vec3<double>::UnitZ());
   EXPECT_EQ(top.z0, Vec3<double>::UnitZ());
@@ -58,7 +58,7 @@ TEST(Scene, NearlyOrthogonalInitialRIsProjectedOntoSO3) {
 TEST(Scene, UnitVectorsAreNormalised) {
   const Scene s = parse(R"({"problem": {"type": "heavy_top", "inertia": [1, 1, 1], "b": 2, "k": [0, 0.6, 0.8000000001],
     "z0": [1, 0, 0]}, "initial": {"omega": [0, 0, 1]}, "integrator": {"method": "lgvi", "dt": 0.1}, "t_end": 1})");
-  const auto& top = std::get<HeavyTop<double>>(s.problem);
+  const auto& top = *problem_as<HeavyTop<double>>(*s.problem);
   EXPECT_NEAR(top.k.norm(), 1.0, 1e-16);
   EXPECT_EQ(top.b, 2.0);
 }
@@ -70,7 +70,7 @@ TEST(Scene, RunnerMatchesTheLibraryBitForBit) {
   ASSERT_EQ(report.summary.status, RunStatus::completed);
   EXPECT_EQ(report.summary.t, 2.5);
 
-  const auto& top = std::get<HeavyTop<double>>(s.problem);
+  const auto& top = *problem_as<HeavyTop<double>>(*s.problem);
   Lgvi<HeavyTop<double>> stepper(top);
   State<double> x = s.initial;
   const double times[] = {1, 2.345, 2.5};

@@ -1,11 +1,15 @@
-#include "registry.hpp"
+// lgi/apps/problems/lagrange_top_euler_angles.cpp — the `lagrange_top_euler_angles` problem type of scenes: its parser and its registration (every method
+// that applies to it is compiled here, problem_model.hpp).
+#include "../problem_model.hpp"
+
+#include <lgi/problems/euler_angle_top.hpp>
 
 #include <cmath>
 
 namespace lgi::app {
 namespace {
 
-AnyProblem parse_euler_angle_top(const Node& p) {
+EulerAngleTop<double> parse(const Node& p) {
   EulerAngleTop<double> top;
   top.I2 = p.at("I2").positive();
   top.I3 = p.at("I3").positive();
@@ -28,16 +32,10 @@ AnyProblem parse_euler_angle_top(const Node& p) {
   return top;
 }
 
+
 }  // namespace
 
-std::vector<ProblemInfo> paper_problem_infos() {
-  return {
-      {"lagrange_top_euler_angles",
-       "seed paper's Lagrange top in Euler angles, eqs. (s6.1)-(s6.3); k = (0, k2, k3), z0 = e3, "
-       "I = diag(I2, I2, I3); stops where sin(theta) < min_sin_theta (default 0.05)",
-       {"type", "I2", "I3", "b", "k2", "k3", "min_sin_theta"},
-       parse_euler_angle_top},
-  };
-}
+LGI_DEFINE_PROBLEM(lagrange_top_euler_angles, EulerAngleTop<double>, "seed paper's Lagrange top in Euler angles, eqs. (s6.1)-(s6.3); k = (0, k2, k3), z0 = e3, "
+                   "I = diag(I2, I2, I3); stops where sin(theta) < min_sin_theta (default 0.05)", ({"type", "I2", "I3", "b", "k2", "k3", "min_sin_theta"}), parse)
 
 }  // namespace lgi::app
