@@ -51,13 +51,7 @@ class ProblemModelOf final : public ProblemModel {
   }
   void state_columns(double t, const State<double>& x, std::vector<double>& out) const override {
     if constexpr (RigidBodyProblem<P>) {
-      out.push_back(t);
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) out.push_back(x.R(r, c));
-      for (int i = 0; i < 3; ++i) out.push_back(x.Omega(i));
-      out.push_back(energy_at(problem_, t, x));
-      out.push_back(so3::orthogonality_error(x.R));
-      for (const double v : invariants_at(problem_, t, x)) out.push_back(v);
+      runner_detail::append_state_columns(problem_, t, x, out);
     } else {
       throw std::logic_error("lgi: state_columns of a problem not on SO(3)");
     }

@@ -41,7 +41,20 @@ std::unique_ptr<Integrator> integrator_for(const P& problem, const Scene& scene,
   return engine;
 }
 
-// A problem on SO(3): the columns of a state x at time t are t, R, Ω, the energy, ‖RᵀR − I‖ and its invariants.
+// The columns of a row (csv_header) of a problem on SO(3) at (t, x): t, R row by row, Ω, the energy, ‖RᵀR − I‖_F
+// and the problem's invariants.
+template <class P>
+void append_state_columns(const P& problem, double t, const State<double>& x, std::vector<double>& out) {
+  out.push_back(t);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out.push_back(x.R(r, c));
+  for (int i = 0; i < 3; ++i) out.push_back(x.Omega(i));
+  out.push_back(energy_at(problem, t, x));
+  out.push_back(so3::orthogonality_error(x.R));
+  for (const double v : invariants_at(problem, t, x)) out.push_back(v);
+}
+
+// A problem on SO(3): its rows are append_state_columns'.
 template <class P>
 class ProblemRunnerOf final : public ProblemRunner {
  public:
@@ -58,13 +71,7 @@ class ProblemRunnerOf final : public ProblemRunner {
 
  private:
   void state_columns(double t, const State<double>& x, std::vector<double>& out) const {
-    out.push_back(t);
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) out.push_back(x.R(r, c));
-    for (int i = 0; i < 3; ++i) out.push_back(x.Omega(i));
-    out.push_back(energy_at(problem_, t, x));
-    out.push_back(so3::orthogonality_error(x.R));
-    for (const double v : invariants_at(problem_, t, x)) out.push_back(v);
+    append_state_columns(problem_, t, x, out);
   }
   P problem_;
 };
