@@ -137,8 +137,8 @@ MemberResult run_member(const Sweep& s, std::int64_t m, const volatile std::sig_
 // kernel's condition; integrators/batch_lgvi.hpp) over the same whole number of steps, the members differing only
 // in their initial state and b: its keys are all under /initial/ or /problem/b, t_end is on the grid, no
 // limits.max_steps, nothing recorded during the run. Its members then run in blocks through
-// integrate_batch_lgvi, whose results equal the single-body Lgvi's bit for bit (tests/test_batch.cpp); the rows
-// are built from them exactly as from the runner's report (tests/test_cli_sweep.cpp compares the bytes with
+// integrate_batch_lgvi, whose results equal the single-body Lgvi's bit for bit (tests/integrators/test_batch.cpp); the rows
+// are built from them exactly as from the runner's report (tests/cli/test_cli_sweep.cpp compares the bytes with
 // --no-batch). Members longer than batch_max_steps run one by one, so that a signal still stops them within a
 // monitor call; a block (≤ batch_block_work body-steps, ≤ 0.3 s at 70 ns a body-step) runs to its end before a
 // signal is seen.

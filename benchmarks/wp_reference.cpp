@@ -129,7 +129,7 @@ Reference compute_reference(const Case& c, bool reduced) {
     const lgi::FreeBodyExact<double, long double> exact(c.body.J);
     ref.kind = "exact";
     ref.x = exact.solve(c.x0).state(ref.t_eval);
-    ref.error_bar = 1e-15;  // tests/test_free_body_exact.cpp: ≤ 2.6e-16 for t ≤ 100; stated as 1e-15
+    ref.error_bar = 1e-15;  // tests/problems/test_free_body_exact.cpp: ≤ 2.6e-16 for t ≤ 100; stated as 1e-15
     ref.cross_check = state_error(ref.x, x_int);
     char bar[32];
     std::snprintf(bar, sizeof bar, "%.1e", bar_int);

@@ -9,7 +9,7 @@
 // Three kinds of scalar: the arithmetic types (float, double, long double); ceres::Jet (a value part x.a
 // and derivatives x.v); and a real class type without derivatives that has std::numeric_limits and finds
 // its sqrt, sin, atan2, isfinite … by argument-dependent lookup (boost::multiprecision::float128 in
-// tests/test_quad_order.cpp, which runs the RKMK methods in quad precision). The core includes neither.
+// tests/integrators/test_quad_order.cpp, which runs the RKMK methods in quad precision). The core includes neither.
 #pragma once
 
 #include <Eigen/Core>
@@ -38,7 +38,7 @@
 // the dynamic loader picks one for the machine (an ifunc). The AVX2 copy does the same IEEE operations in the
 // same order — three-operand VEX encoding and wider registers, no FMA (GCC contracts a·b + c only where FMA
 // instructions are enabled, and "avx2" does not enable them) — so results are the same bit for bit
-// (tests/test_dispatch.cpp). Off for other compilers and targets, and where LGI_NO_DISPATCH is defined (the
+// (tests/core/test_dispatch.cpp). Off for other compilers and targets, and where LGI_NO_DISPATCH is defined (the
 // unit tests, which build without flattening for compile time).
 #if !defined(LGI_NO_DISPATCH) && defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12 && \
     defined(__x86_64__) && defined(__gnu_linux__)

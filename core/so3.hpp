@@ -281,7 +281,7 @@ Mat3<T> cayley_increment(const Vec3<T>& w) {
 // The right-trivialised inverse differential of the Cayley map: with R(t) = R₀ cay(u(t)) and the body
 // velocity Ω (R' = R hat(Ω)),  u' = dcay⁻¹_u(Ω) = Ω + ½ u × Ω + ¼ (u·Ω) u  — exact and polynomial, where the
 // exponential's J_r⁻¹ is a series (HLW §IV.8.3, dcay⁻¹_C(H) = (I − C/2) H (I + C/2), in vector form;
-// tests/test_so3.cpp differentiates cayley_inverse to check it).
+// tests/core/test_so3.cpp differentiates cayley_inverse to check it).
 template <class T>
 Vec3<T> cayley_right_jacobian_inverse(const Vec3<T>& u, const Vec3<T>& v) {
   return v + T(0.5) * u.cross(v) + (T(0.25) * u.dot(v)) * u;

@@ -19,7 +19,7 @@
 //     otherwise:      sin_kernel(π_hi − x, π_lo)
 //   cos_0_pi(x) likewise.
 //
-// Accuracy, measured against long double over 10⁶ + 1 evenly spaced points (tests/test_so3.cpp, TrigPolynomial*):
+// Accuracy, measured against long double over 10⁶ + 1 evenly spaced points (tests/core/test_so3.cpp, TrigPolynomial*):
 // sin_0_pi ≤ 0.775 ulp and cos_0_pi ≤ 0.815 ulp on [0, π] (glibc's sin and cos: 0.515); exp's coefficients on
 // θ ∈ [0.1, π] with this sin: A = sin θ/θ ≤ 1.485 ulp, B = 2 (sin(θ/2)/θ)² ≤ 3.366 ulp (with glibc's sin: 1.467
 // and 3.366 — B's formula squares, so doubles, the error of sin(θ/2)/θ).

@@ -11,7 +11,7 @@
 //                       DIR, writes DIR/results.md (the same text) and DIR/*.csv (the data of the plots).
 //
 // scripts/seed_report.sh builds and runs this program, splices the tables into docs/seed_paper.md and
-// redraws docs/seed_paper/*.png; tests/test_seed_paper.cpp recomputes the tables and checks that the
+// redraws docs/seed_paper/*.png; tests/problems/test_seed_paper.cpp recomputes the tables and checks that the
 // report carries exactly these numbers. (Defining LGI_SEED_PAPER_NO_MAIN leaves out main.)
 #include <lgi/core/so3.hpp>
 #include <lgi/integrators/euclidean_rk.hpp>

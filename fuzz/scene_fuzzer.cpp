@@ -78,7 +78,7 @@ void ten_steps(Scene scene) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  // read_json_file refuses larger files before parsing (tests/test_malformed_scenes.cpp checks that).
+  // read_json_file refuses larger files before parsing (tests/cli/test_malformed_scenes.cpp checks that).
   if (size > max_input_bytes) return 0;
   const std::string text(reinterpret_cast<const char*>(data), size);
   Scene scene;

@@ -33,7 +33,7 @@
 //   attempted steps (accepted + rejected) or the monitor end it with RunStatus::stopped. x then holds the
 //   last accepted state and the summary its time.
 //
-// Measured (tests/test_adaptive.cpp, skew heavy top, rtol = atol = tol, error = max over the output times of
+// Measured (tests/integrators/test_adaptive.cpp, skew heavy top, rtol = atol = tol, error = max over the output times of
 // |log(R_refᵀR)| + |Ω − Ω_ref| against a long-double reference): over T = 2 the global error is 2.0 … 2.7 tol
 // (DP5) and 0.04 … 1.7 tol (DOP853) for tol = 1e-4 … 1e-12; over T = 10 it is 33 … 46 tol (DP5) and 2 … 7 tol
 // (DOP853) — the controller bounds the local error, and on this top local errors add up and grow — while

@@ -15,7 +15,7 @@
 // (integrators/batch_lgvi_kernel.hpp) repeat the single-body arithmetic operation for operation (Eigen's
 // evaluation order included); lanes whose Newton needs fewer iterations stop updating while the others
 // continue; a failing body (not_converged, non_finite) keeps its last good state and leaves its lane.
-// tests/test_batch.cpp checks all of this.
+// tests/integrators/test_batch.cpp checks all of this.
 //
 // Kernels (BatchKernel):
 //   baseline   lane blocks of 4 bodies (two SSE2 vectors), the build's own flags (x86-64 baseline)

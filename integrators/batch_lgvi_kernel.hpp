@@ -14,7 +14,7 @@
 // maxCoeff of |v| a left fold m ← (m < vᵢ) ? vᵢ : m (so a NaN in v₁ or v₂ is skipped, as Eigen does); the 3×3
 // product R·(F − I) with rows 0 and 1 as ((p₀ + p₁) + p₂) (packet path) and row 2 as p₀ + (p₁ + p₂) (scalar
 // redux); (F − I)ᵀΠ and Rᵀk as ((p₀ + p₁) + p₂); cross products a × b = (a₁b₂ − a₂b₁, a₂b₀ − a₀b₂, a₀b₁ − a₁b₀).
-// tests/test_batch.cpp checks the outcome bit for bit against the single-body stepper.
+// tests/integrators/test_batch.cpp checks the outcome bit for bit against the single-body stepper.
 //
 // Per-lane Newton iteration counts differ: the block iterates while any lane is active and applies an update
 // only to active lanes (a blend), so each lane performs exactly the single-body iterations. A lane whose

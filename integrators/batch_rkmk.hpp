@@ -17,7 +17,7 @@
 // polynomial sin (the same templates as so3::exp_coefficients) for rotation angles up to π, and from
 // so3::exp_coefficients itself, lane by lane, beyond π. RKMK4 is explicit: a body fails only when its state
 // becomes non-finite (status non_finite); it keeps its last good state and leaves its lane.
-// tests/test_batch.cpp checks all of this.
+// tests/integrators/test_batch.cpp checks all of this.
 //
 // Kernels: BatchKernel (integrators/batch_kernels.hpp) — baseline (4 lanes), avx2 (8), avx512 (16), per_body,
 // automatic (the widest available; per_body when J is not diagonal). Per-body parameters: the heavy top's b

@@ -24,7 +24,7 @@
 // Each scalar expression is written in the order in which Eigen 3.4 evaluates the single-body code on x86-64
 // with SSE2 and no FMA contraction (as in batch_lgvi_kernel.hpp: 3-term dots ((x₀ + x₁) + x₂), R·(F − I) rows
 // 0 and 1 ((p₀ + p₁) + p₂) and row 2 p₀ + (p₁ + p₂), cross products (a₁b₂ − a₂b₁, a₂b₀ − a₀b₂, a₀b₁ − a₁b₀),
-// sums u += c U starting from an exact 0, which turns −0 into +0). tests/test_batch.cpp checks the outcome bit
+// sums u += c U starting from an exact 0, which turns −0 into +0). tests/integrators/test_batch.cpp checks the outcome bit
 // for bit against the single-body stepper.
 //
 // RKMK4 is explicit: a lane fails only when its new state is not finite (status non_finite). It is then written

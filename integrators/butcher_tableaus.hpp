@@ -10,7 +10,7 @@
 //                            Verner's 8(7) is here as checked data but not offered as a method (see it below)
 //
 // Every coefficient set is checked against the Runge–Kutta order conditions (all rooted trees up to the
-// declared order, evaluated numerically) in tests/test_rkmk_family.cpp, and by observed order.
+// declared order, evaluated numerically) in tests/integrators/test_rkmk_family.cpp, and by observed order.
 //
 // The tableaus the methods use are doubles (tableaus::dop853, verner9 and the rest), also when a method runs in
 // long double: the order conditions then hold only to ~1e-16 (e.g. Σ b_i − 1 of DOP853 and of 1/6, 1/3, 1/3, 1/6
@@ -23,7 +23,7 @@
 // the literal's text parsed in C (tableaus::detail::coefficient): binary128 (__float128) to within one unit in
 // its last place, or a class type with its own C::from_decimal. Verner's 40 digits then hold his order
 // conditions to 4.1e-34 in binary128 and 3.2e-40 in 50 digits, DOP853's 28–30 digits (dop853.f) to 2.9e-29:
-// what tests/test_quad_order.cpp needs to measure the orders of rkmk_vern9_cayley and rkmk_dp8_cayley beyond
+// what tests/integrators/test_quad_order.cpp needs to measure the orders of rkmk_vern9_cayley and rkmk_dp8_cayley beyond
 // the double floor. Nothing here uses __float128 or Boost; the methods take such a tableau as they take any
 // (Rkmk<tableaus::verner9_in<__float128>, P, −1, LieChart::cayley> with P's scalar boost::multiprecision::float128).
 #pragma once
@@ -206,7 +206,7 @@ constexpr DecimalDigits scan_decimal(const char* s) {
 // A decimal literal's text parsed in C's arithmetic: the first 38 significant digits as two exact integers
 // (≤ 19 digits each), m = head·10^n + tail (head·10^n is exact in binary128: 64 + 45 bits), then m/10^k or m·10^k
 // — two roundings in binary128, so within one unit in the last place of the correctly rounded value (digits
-// past the 38th are below 10⁻³⁷ relative and dropped). Measured (tests/test_quad_order.cpp, DecimalParsersAgree):
+// past the 38th are below 10⁻³⁷ relative and dropped). Measured (tests/integrators/test_quad_order.cpp, DecimalParsersAgree):
 // 866 of Verner 9(8)'s 952 entries correctly rounded, the others one unit off.
 template <class C>
 constexpr C parse_decimal(const char* s) {
@@ -294,7 +294,7 @@ inline constexpr std::array<std::array<double, 7>, 1> dp5_d = {{{-12715105075.0 
 // number needs its edition); dense output
 // of order 4 by Shampine, Math. Comp. 46 (1986) 135–150, in the form of Hairer & Wanner's DOPRI5 code
 // (HNW I §II.6). Coefficients cross-checked against two independent transcriptions of DOPRI5 and by the
-// order conditions (tests/test_rkmk_family.cpp).
+// order conditions (tests/integrators/test_rkmk_family.cpp).
 inline constexpr EmbeddedTableau<7, 7> dormand_prince5{
     .name = "rkmk_dp5",
     .title = "Runge-Kutta-Munthe-Kaas, Dormand-Prince 5(4) with dense output (adaptive with rtol/atol)",
@@ -494,7 +494,7 @@ inline constexpr std::array<std::array<C, 16>, 4> dop853_d = [] {
 // not confirmed — the book was not available to us, and dop853.f's header cites only the book). Error
 // estimate of dop853.f: err = ‖δ₅‖² / √(‖δ₅‖² + 0.01 ‖δ₃‖²) (RMS norms of the scaled
 // components), which behaves like h⁸: control_order 8. Checked by the order conditions (order 8 for b,
-// 5 for b − e, 3 for b − e3, 7 for the dense weights) in tests/test_rkmk_family.cpp.
+// 5 for b − e, 3 for b − e3, 7 for the dense weights) in tests/integrators/test_rkmk_family.cpp.
 template <class C>
 inline constexpr EmbeddedTableau<12, 16, 8, C> dop853_in{
     .name = "rkmk_dp8",
@@ -932,7 +932,7 @@ inline constexpr std::array<std::array<C, 9>, 26> vern9_dense = [] {
 // Verner's most efficient 9(8) pair: order 9, an order-8 error estimate, 16 stages a step (the 16th feeds only
 // the estimate), and an order-9 continuous extension from 10 more stages (the first at the new point). The
 // estimate e = b − b̂ behaves like h⁹: control_order 9. Checked by the order conditions (order 9 for b, 8 for
-// b − e, 9 for the dense weights at every θ tried) in tests/test_rkmk_family.cpp.
+// b − e, 9 for the dense weights at every θ tried) in tests/integrators/test_rkmk_family.cpp.
 template <class C>
 inline constexpr EmbeddedTableau<16, 26, 9, C> verner9_in{
     .name = "rkmk_vern9",
@@ -1249,7 +1249,7 @@ inline constexpr std::array<std::array<double, 8>, 21> vern8_dense = [] {
 // Verner's most efficient 8(7) pair: order 8, an order-7 error estimate, 13 stages a step (the 13th feeds only
 // the estimate), and an order-8 continuous extension from 8 more stages (the first at the new point). The
 // estimate behaves like h⁸: control_order 8. Checked by the order conditions (order 8 for b, 7 for b − e, 8 for
-// the dense weights at every θ tried) in tests/test_rkmk_family.cpp.
+// the dense weights at every θ tried) in tests/integrators/test_rkmk_family.cpp.
 // Not offered as an RKMK method (no alias, not in the registry): measured, it does not pay. On the heavy tops
 // (benchmarks/work_precision, HV and seed tops, one run, README) it reaches 1e-8 and 1e-10 0–9 % faster than
 // DOP853 in Cayley coordinates (24.3 / 38.9 against 26.0 / 42.9 µs on the HV top) and 2–18 % in the exponential

@@ -33,7 +33,7 @@
 //   R_3 = R_n exp(h a_31 Ω_1) exp(h a_32 Ω_2),  R_{n+1} = R_n exp(h b_1 Ω_1) exp(h b_2 Ω_2) exp(h b_3 Ω_3).
 //   Order 3: the classical conditions up to order 3 plus Σ b_i² c_i + 2 Σ_{i<j} b_i c_i b_j = 1/3
 //   (HLW Theorem IV.8.2, the last condition being (IV.8.7); Owren & Marthinsen 1999 extend this order theory
-//   to higher orders), all exact for these rationals (tests/test_commutator_free.cpp checks them).
+//   to higher orders), all exact for these rationals (tests/integrators/test_commutator_free.cpp checks them).
 //   Six exponentials a step.
 //
 // Cost. Stage attitudes are only needed through the torque: for a torque of Γ = Rᵀa alone

@@ -35,7 +35,7 @@
 // Equation numbers are HLW 2nd ed. (2006) as confirmed from its text ((V.3.8), (V.3.10), Theorem V.3.4,
 // Example V.3.5, Fig. V.3.3, (V.3.11), (V.3.12), (V.3.14), (II.4.4), (II.4.5); the 26-digit p6 s7 and p10 s35
 // values above agree with the legible digits of that text); Yoshida's and Suzuki's own equation numbers
-// could not be confirmed and are not given. Every set is checked by tests/test_composition.cpp:
+// could not be confirmed and are not given. Every set is checked by tests/integrators/test_composition.cpp:
 // symmetric, Σγ = 1, and its observed order on the free body and a heavy top.
 #pragma once
 

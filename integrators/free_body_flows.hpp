@@ -21,7 +21,7 @@
 //     Hamiltonian, that the energy errors of the algorithms differ by several orders of magnitude, and that
 //     for the flat body I ∝ (1, 0.75, 0.25) one of them is of order four; HLW 2nd ed. §VII.5.3 cites it for
 //     this comparison. The paper's text was not available, so its selection rule is not quoted here). The
-//     default order is chosen by measurement over all six orders (tests/test_splitting.cpp): smallest
+//     default order is chosen by measurement over all six orders (tests/integrators/test_splitting.cpp): smallest
 //     moment outermost, intermediate in the middle, largest innermost with the full step — the order
 //     that is of fourth order for Fassò's flat body I ∝ (1, 0.75, 0.25), see axis_order_for().
 //     Overridable by the scene key "axis_order" (StepperOptions::axis_order, [outer, middle, inner]):
@@ -45,7 +45,7 @@
 //     symplectic; for a steady rotation about a principal axis it advances asin(h|Ω|) instead of h|Ω|
 //     (McLachlan & Zanna, Found. Comput. Math. 5 (2005) 87). The equation has no solution once h|Π|
 //     exceeds about max I (on a principal axis: h|Ω| > 1); the flow then takes ⌈h|Π|/min I⌉ substeps
-//     (dmv_substeps), so it stays finite and bounded at any step (h|Ω| = 3: tests/test_dmv.cpp; there the
+//     (dmv_substeps), so it stays finite and bounded at any step (h|Ω| = 3: tests/integrators/test_dmv.cpp; there the
 //     substeps are what keep it finite — the plain fixed point converges at the substep size too, Newton
 //     only in fewer iterations).
 //     Cost on the Hairer–Vilmart heavy top (h = 0.01, benchmarks/callgrind_steps.sh, g++ 12 -O3 for
@@ -66,7 +66,7 @@
 //     flops more per step. The coefficients (hv_coefficients below, degrees 1–4 in (η, χ)) are those of
 //     the authors' published Fortran code DMV10.f (version of 29 Aug 2006, corrected 28 Dec 2007); we
 //     could not read the paper itself, so we cite no equation number for them. They are checked here by
-//     the measured orders 4, 6, 8, 10 on the free body (tests/test_dmv.cpp, in long double against a
+//     the measured orders 4, 6, 8, 10 on the free body (tests/integrators/test_dmv.cpp, in long double against a
 //     long-double reference). DMV preserves |Π| and H exactly, so Ĩ is the same computed from the start
 //     or the end of the step: the method stays symmetric. It is not claimed symplectic: Ĩ depends on the
 //     state through H and |Π|, and whether the paper proves the map symplectic could not be checked (the
@@ -194,7 +194,7 @@ void renormalise(Quaternion<T>& q) {
 // The four components are formed alike, lane by lane, (g q_i + ((s x) a_i + (s y) b_i + (s z) c_i)) with
 // (a, b, c) signed permutations of q, so that for double GCC's vector extensions can compute them two at a
 // time (SSE2 at the baseline, no FMA): the same operations in the same order, bit for bit the scalar
-// result (tests/test_dmv.cpp), 16 instructions a kick + DMV step fewer than the scalar code (HV top; 20
+// result (tests/integrators/test_dmv.cpp), 16 instructions a kick + DMV step fewer than the scalar code (HV top; 20
 // for the preprocessed DMV of order 4).
 namespace detail {
 template <class T>
@@ -253,7 +253,7 @@ void multiply_increment(Quaternion<T>& q, const T& x, const T& y, const T& z, co
 
 // The default axis order (outer, middle, inner) for moments I: the smallest moment outermost, the
 // intermediate in the middle, the largest integrated with the full step innermost. Measured (see the
-// header and tests/test_splitting.cpp): never the worst of the six orders and within ≈ 3× of the best on
+// header and tests/integrators/test_splitting.cpp): never the worst of the six orders and within ≈ 3× of the best on
 // every body and momentum tried; on the flat body I ∝ (1, 0.75, 0.25) it is the order whose h² error term
 // vanishes (energy error 4e-10 against 2e-5 … 3e-4 for the others at h = 0.01: Fassò's fourth-order case).
 template <class T>
@@ -278,7 +278,7 @@ class AxisRotations {
   // The five rotations are composed into one quaternion p = 1 + (δw, u) (kept as an increment, so its
   // rounding scales with the small angles) while Π is rotated along to give the angles; then q ← q ⊗ p
   // and Π ← R(p)ᵀ Π₀, each rounded once per step instead of five times (m·k after 10⁷ HV-top steps:
-  // 1.3e-12 with five sequential updates, see tests/test_splitting.cpp for the figure with one).
+  // 1.3e-12 with five sequential updates, see tests/integrators/test_splitting.cpp for the figure with one).
   LGI_FLATTEN StepStatus operator()(Quaternion<T>& q, Vec3<T>& Pi, const T& h) {
     Vec3<T> dPi;
     const StepStatus s = advance(q, Pi, h, dPi);
@@ -485,7 +485,7 @@ struct DmvSweepTable {
 // (|w|² > table.fixed_point_w2, |w| ≈ 0.1, h|Ω| ≈ 0.2). Stopping at a relative tolerance instead leaves a solution error that is not the
 // same for the step h and its reverse −h, and the step is then symmetric only to that error: measured
 // 4e-14 for step(h) ∘ step(−h) on the skew top at h = 0.1 with tolerance 1e-14, against 4e-16 now
-// (tests/test_splitting.cpp, StepThenReverseStepIsIdentity).
+// (tests/integrators/test_splitting.cpp, StepThenReverseStepIsIdentity).
 //
 // alpha (for dmv_apply): α = 1 + |c|². Where the fixed point converged it is the α the test sweep started
 // from, not recomputed from the sweep's result (5 flops; measured 5–11 instructions a step): the two differ

@@ -30,7 +30,7 @@
 // axisymmetric top commutes with turns about e3, M(R exp(α ê3)) = exp(−α ê3) M(R) (its potential does not see
 // them: that is what M3 ≡ 0 means; the constructor checks it). No fixed rotation is applied to anything:
 // the rotation exp(hΠ̃/I1) changes with the kicks, q̃ is a unit quaternion renormalised by one Newton step
-// each step, and ψ enters only at the output, R = R(q̃) exp(ψ ê3). Measured (tests/test_problem_library.cpp,
+// each step, and ψ enters only at the output, R = R(q̃) exp(ψ ê3). Measured (tests/problems/test_problem_library.cpp,
 // LagrangeSplit.LongRunAtLargeSteps): ‖RᵀR − I‖ and m·k at round-off over 4·10⁶ steps at h = 0.3, growing
 // no faster than a random walk. M is kept for the next step's first kick: one torque per step; Γ̃ = R(q̃)ᵀk is
 // read off q̃ without forming a matrix. Explicit, no solve, no step-size restriction from the spin rate.

@@ -35,7 +35,7 @@
 // update and two residuals) — ≈ 150 flops, not the "few dozen" first estimated. Measured with callgrind (g++ 12
 // -O3, h = 0.01, JΩ0 = (1.8, 0.4, −0.9)): RKMK4 972 → 1416 instructions/step on the Hairer–Vilmart heavy top
 // (+46 %), 585 → 962 on the free body; DP5 1477 → 1962 (heavy top), 915 → 1156 (free body).
-// Effect (tests/test_projection.cpp): energy and m·k (free body: E and |JΩ|) to ≤ 2e-15 over 10⁶ steps where
+// Effect (tests/integrators/test_projection.cpp): energy and m·k (free body: E and |JΩ|) to ≤ 2e-15 over 10⁶ steps where
 // the unprojected runs drift to 1e-7; the state error at T = 10 changes by a factor 0.13 … 1.7.
 // Order: that of the underlying method (the projection moves the state by O(local error)). R on SO(3): as
 // the underlying method.

@@ -19,7 +19,7 @@
 // whose own theorem numbers were not checked): along the exact flow u = tΩ + O(t²), so ad_u^k Ω = O(t^(k+1))
 // and the dropped terms change a step by O(h^(p+1)). It makes the stage map a polynomial. Since B_k = 0 for
 // odd k ≥ 3, K = p − 2 is lowered to the last non-zero term (DP5: K = 2; Verner 9(8): K = 7 → 6, the same
-// terms as DOP853's K = 6). Measured (tests/test_rkmk_family.cpp, RkmkSeriesTruncation): one non-zero term
+// terms as DOP853's K = 6). Measured (tests/integrators/test_rkmk_family.cpp, RkmkSeriesTruncation): one non-zero term
 // short, the order falls to the dropped power + 1 — RKMK3 with K = 0: 2.000; RKMK4 with K = 1: 3.003; DP5 with
 // K = 1: 3.001; DOP853 with K = 4: 7.06; Verner 9(8) with K = 4: 7.01 (and 9 with K = 6: the ad⁸ term, B₈ ≠ 0,
 // is not needed).
@@ -69,10 +69,10 @@
 // coordinates it needs fewer steps than DOP853 in either chart for the same error (README, work-precision), at
 // about DOP853's cost per stage (callgrind, HV heavy top, h = 0.01, fixed steps, which form 15 of its 16
 // stages: rkmk_vern9 5001, rkmk_vern9_cayley 3611 instructions; DOP853 4308, 2838 for 12 stages).
-// Measured (tests/test_rkmk_family.cpp, test_adaptive.cpp): orders 8.84 (skew top) and 8.98 (free body) in the
+// Measured (tests/integrators/test_rkmk_family.cpp, test_adaptive.cpp): orders 8.84 (skew top) and 8.98 (free body) in the
 // exponential chart; in Cayley coordinates its errors fall faster than h⁹ everywhere above the double round-off
 // floor (9.5 on the skew top, 10.0 on the free body: large h¹⁰ terms), and with order 9 below it
-// (tests/test_quad_order.cpp, coefficients tableaus::verner9_in<C> parsed to the run's precision): 9.002 in
+// (tests/integrators/test_quad_order.cpp, coefficients tableaus::verner9_in<C> parsed to the run's precision): 9.002 in
 // binary128 on the skew top (errors 7.8e-21 … 1.5e-29), 9.096 in 50 digits on the GNI free body (3.7e-27 …
 // 7.2e-37; binary128 stops at 9.53 there); DOP853 in Cayley coordinates 8.002 on the GNI body in binary128. Round-off of one step, double against long
 // double, h = 0.1 … 0.3: 2.1e-16 at the step's end (DOP853 9.5e-16) but 8.5e-13 in the dense output (DOP853
@@ -99,7 +99,7 @@
 // the step sequence is the body frame's too. Jets and other torques keep the body frame (a Jet's Q would carry
 // first-order derivatives of J only; real class types such as float128 keep it too).
 // Measured: principal-axis runs against the body frame's (Jets) ≤ 1.1e-14 over 200 steps, one adaptive trial
-// step ≤ 1.2e-15, its dense output ≤ 7.6e-16 (tests/test_rkmk_family.cpp, RkmkPrincipalAxes); callgrind on the
+// step ≤ 1.2e-15, its dense output ≤ 7.6e-16 (tests/integrators/test_rkmk_family.cpp, RkmkPrincipalAxes); callgrind on the
 // heavy top with a non-diagonal J (benchmarks/callgrind_steps.sh, heavy_top_tilted, h = 0.01): rkmk_vern9_cayley
 // 4123 → 3521, rkmk_dp8_cayley 3249 → 2819, rkmk4 1094 → 996 instructions a step — below the diagonal HV top's
 // (3580, 2891, 986), whose torque is the problem's b (Γ × z0) rather than Γ × Qᵀv.
@@ -131,7 +131,7 @@ namespace lgi {
 enum class LieChart : std::uint8_t { exp, cayley };
 
 // SeriesDegree: the last ad-power kept in the J_r⁻¹ series (−1: the default, the least that keeps the
-// tableau's order; other values only to measure that the truncation matters, tests/test_rkmk_family.cpp).
+// tableau's order; other values only to measure that the truncation matters, tests/integrators/test_rkmk_family.cpp).
 // Unused by the Cayley chart, whose dcay⁻¹ is exact.
 template <const auto& Tableau, RigidBodyProblem P, int SeriesDegree = -1, LieChart Chart = LieChart::exp>
 class Rkmk {

@@ -26,7 +26,7 @@
 // symmetric compositions raise it: integrators/composition.hpp), the free-body flow's order without one
 // (the preprocessed DMV: 4–10). The traits say so for every problem alike: `order` = 2 (what holds with a
 // torque, measured on the skew heavy top), `free_body_order` = the flow's order where it is higher
-// (measured on the free body: tests/test_dmv.cpp). With kick + DMV this is the same map as the LGVI
+// (measured on the free body: tests/integrators/test_dmv.cpp). With kick + DMV this is the same map as the LGVI
 // (lgvi.hpp; NUMERICS.md: LGVI ≡ RATTLE ≡ Strang(kick, DMV, kick)), implemented in principal axes with a
 // quaternion. Symplectic when the free-body flow is (axis rotations, DMV, the exact flow); m·k (the
 // momentum the torque leaves alone) and |Γ| = 1 preserved to round-off; R on SO(3) to round-off.

@@ -22,7 +22,7 @@
 // §2), and users without Ceres get automatic torques too. The dual below is the minimal forward mode
 // (value + 3 derivative components, the arithmetic and the elementary functions a potential uses) and
 // is itself templated on its scalar, so Dual<ceres::Jet<double, N>> nests: derivatives of whole
-// trajectories through the automatic torque work (tests/test_problem_library.cpp measures both against
+// trajectories through the automatic torque work (tests/problems/test_problem_library.cpp measures both against
 // finite differences). A potential functor written for any S (as in the tutorial docs/new_problem.md)
 // is called with S = T (the energy), S = Dual<T> (the torque).
 //

@@ -49,7 +49,7 @@ logs=$build/sanitizer-logs
 rm -rf "$logs"
 mkdir -p "$logs"
 # Reports to files (one per process, the lgi processes included); abort on the first error.
-# verify_asan_link_order=0: test_reliability preloads its fault-injection shim (tests/fault_shim.cpp) into `lgi`.
+# verify_asan_link_order=0: test_reliability preloads its fault-injection shim (tests/cli/fault_shim.cpp) into `lgi`.
 export ASAN_OPTIONS="log_path=$logs/asan:detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1:verify_asan_link_order=0"
 export UBSAN_OPTIONS="log_path=$logs/ubsan:print_stacktrace=1:halt_on_error=1"
 set +e

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates the seed-paper report, docs/seed_paper.md, in one command:
-#   1. builds examples/seed_paper.cpp with exactly the compiler flags of tests/test_seed_paper.cpp (taken from
+#   1. builds examples/seed_paper.cpp with exactly the compiler flags of tests/problems/test_seed_paper.cpp (taken from
 #      the build's compile_commands.json), so that the test recomputes the same bits;
 #   2. runs it: the tables (markdown) and the plot data (CSV) go to BUILD_DIR/seed_paper_data/;
 #   3. splices every <!-- table:NAME --> block into docs/seed_paper.md and copies the tables to
@@ -34,7 +34,7 @@ cmake -S "$root" -B "$build" > /dev/null
 flags=$("${py[@]}" - "$build/compile_commands.json" <<'EOF'
 import json, shlex, sys
 for entry in json.load(open(sys.argv[1])):
-    if entry["file"].endswith("tests/test_seed_paper.cpp"):
+    if entry["file"].endswith("tests/problems/test_seed_paper.cpp"):
         args = shlex.split(entry["command"])
         out, skip = [], False
         for a in args[1:]:
@@ -48,7 +48,7 @@ for entry in json.load(open(sys.argv[1])):
         print(shlex.join([args[0]] + out))
         break
 else:
-    sys.exit("seed_report: no compile command for tests/test_seed_paper.cpp in " + sys.argv[1])
+    sys.exit("seed_report: no compile command for tests/problems/test_seed_paper.cpp in " + sys.argv[1])
 EOF
 )
 echo "seed_report: building examples/seed_paper.cpp" >&2

@@ -1,10 +1,10 @@
 // Measuring orders in quad precision (binary128): the scalar, an independent reference and the order fit of
-// tests/test_quad_order.cpp. Only that test includes this header: it needs GCC's __float128, Boost's
+// tests/integrators/test_quad_order.cpp. Only that test includes this header: it needs GCC's __float128, Boost's
 // boost::multiprecision::float128 (header-only) and libquadmath, none of which lgi's own headers use.
 //
 // Why: in double and long double the errors of the order-9 methods meet the round-off floor (≈ 1e-16 with
 // double coefficients) within two or three decades, before the leading h⁹ term of some of them dominates
-// (tests/test_rkmk_family.cpp). In binary128, with coefficients parsed to binary128 from the source's decimal
+// (tests/integrators/test_rkmk_family.cpp). In binary128, with coefficients parsed to binary128 from the source's decimal
 // text (integrators/butcher_tableaus.hpp, tableaus::verner9_in<C>, dop853_in<C>), errors can be followed down
 // to ≈ 1e-29.
 #pragma once
@@ -34,7 +34,7 @@ using Q = boost::multiprecision::float128;
 // ---- beyond binary128 ------------------------------------------------------------------------------------
 //
 // Where the h⁹ term takes over only below the errors binary128 can resolve (Verner 9(8) in Cayley coordinates
-// on the free body: tests/test_quad_order.cpp), the runs go to 50 decimal digits (Boost's cpp_bin_float, ≈ 5×
+// on the free body: tests/integrators/test_quad_order.cpp), the runs go to 50 decimal digits (Boost's cpp_bin_float, ≈ 5×
 // the cost of binary128), with coefficients that keep all 40 of Verner's digits: DoubleQuad, an unevaluated
 // sum hi + lo of two binary128 numbers (≈ 2 × 113 bits), parsed at compile time from the tableau's text
 // (tableaus::detail::coefficient calls C::from_decimal).

@@ -259,7 +259,7 @@ TEST(Adaptive, DenseOutputOrderCayley) {
 // h = 0.6 to 0.25 its local error falls like h^12.2 (exponential chart) and h^11.1 (Cayley), from 1e-8 to 2e-13 —
 // faster than h^10, the order-10 error terms still dominated by higher ones — and from h ≈ 0.16 on it sits on a
 // floor proportional to h, 5.3e-14 h: the interpolant's coefficients (up to 1.07e4) rounded to doubles leave its
-// first condition Σ_i b_i(1/2) = 1/2 off by r₁ = 2.0e-14 (tests/test_rkmk_family.cpp, OrderConditions), and
+// first condition Σ_i b_i(1/2) = 1/2 off by r₁ = 2.0e-14 (tests/integrators/test_rkmk_family.cpp, OrderConditions), and
 // h r₁ (U₁, V₁) = h r₁ (Ω₀, Ω₀') is that floor. Measured here: the slope above the floor (at least the h^10 of an
 // order-9 interpolant) and the floor itself, err/h at h ≤ 0.065 against |r₁| (|Ω₀| + |Ω₀'|) within 5 %.
 // (DOP853's r₁ at 1/2 is 1.4e-15: its floor, 1.4e-16 at h = 0.04, lies below the window it is measured in.)

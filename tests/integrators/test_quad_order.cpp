@@ -1,5 +1,5 @@
 // Observed orders in the asymptotic regime, beyond double: the two RKMK methods whose h^(p+1) error term
-// outweighs the h^p term down to the round-off floor of double and long double (tests/test_rkmk_family.cpp:
+// outweighs the h^p term down to the round-off floor of double and long double (tests/integrators/test_rkmk_family.cpp:
 // rkmk_vern9_cayley 9.46 on the skew top and 10.0 on the GNI body, rkmk_dp8_cayley 8.23 on the GNI body) run in
 // binary128 (boost::multiprecision::float128) or, where even that is too shallow, in 50 digits (Boost's
 // cpp_bin_float), with coefficients parsed from the source's decimal text to that precision

@@ -9,7 +9,7 @@
 //     free_body_order on torque-free problems) lies in [p − 0.5, p + 0.5]: a method of another order shows no
 //     halving near p. Methods of order 9 and more may show up to p + 1.2: in double, above round-off, their h^(p+1)
 //     terms dominate (rkmk_vern9_cayley 9.9-10.0 on the free body, the skew top and the Lagrange top, as
-//     integrators/rkmk.hpp says; tests/test_quad_order.cpp measures 9.002 asymptotically in binary128). The DOP853
+//     integrators/rkmk.hpp says; tests/integrators/test_quad_order.cpp measures 9.002 asymptotically in binary128). The DOP853
 //     family shows 7.5-7.6 on the satellite between h = 10/64 and 10/256 (a finding, docs/findings.md). A method exact to
 //     round-off on the problem (every error ≤ 1e-12: split_exact on the free body) conforms.
 //   - On the group: methods that declare R on SO(3) keep ‖RᵀR − I‖_F ≤ 1e-12 over 4096 steps.
@@ -24,6 +24,7 @@
 // Registering a broken method fails it: declaring RKMK4 of order 3 fails the order test (observed 4.00), an
 // allocation in the LGVI's step fails the allocation test (1000 in 1000 steps). LGI_CONFORMANCE_DUMP=1 prints each
 // case's errors.
+#include "allocation_counter.hpp"
 #include "fp_traps.hpp"
 #include "json_reader.hpp"
 #include "registry.hpp"
@@ -36,7 +37,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
@@ -44,48 +44,10 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
-#if defined(__SANITIZE_ADDRESS__)
-#define LGI_COUNT_ALLOCATIONS 0
-#else
-#define LGI_COUNT_ALLOCATIONS 1
-#endif
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-#if LGI_COUNT_ALLOCATIONS
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-void* malloc(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t n, std::size_t m) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_calloc(n, m);
-}
-void* realloc(void* p, std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_realloc(p, n);
-}
-void* aligned_alloc(std::size_t a, std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_memalign(a, n);
-}
-int posix_memalign(void** p, std::size_t a, std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  *p = __libc_memalign(a, n);
-  return *p ? 0 : 12;  // ENOMEM
-}
-}
-#endif
 
 namespace lgi::app {
 namespace {
@@ -112,6 +74,9 @@ struct Case {
   std::string method;
   const ProblemCase* problem;
 };
+
+// gtest prints a case (and ctest names it) as "method on problem".
+void PrintTo(const Case& c, std::ostream* os) { *os << c.method << " on " << c.problem->name; }
 
 std::vector<Case> all_cases() {
   std::vector<Case> cases;
@@ -257,14 +222,12 @@ TEST_P(Conformance, StaysOnTheGroupAndAllocatesNothing) {
   const Case& c = GetParam();
   Engine e(*c.problem, c.method, 1.0 / 256);
   ASSERT_TRUE(e.steps(8));  // warm-up: anything a first step sets up once
-  const long before = g_allocations.load();
+  const long before = test::allocations();
   ASSERT_TRUE(e.steps(1000));
-  const long allocations = g_allocations.load() - before;
-#if LGI_COUNT_ALLOCATIONS
-  EXPECT_EQ(allocations, 0) << c.method << " on " << c.problem->name;
-#else
-  (void)allocations;
-#endif
+  const long allocations = test::allocations() - before;
+  if (test::counting_allocations) {
+    EXPECT_EQ(allocations, 0) << c.method << " on " << c.problem->name;
+  }
   ASSERT_TRUE(e.steps(3088));
   if (e.engine->traits().exact_on_group) {
     EXPECT_LE(so3::orthogonality_error(e.engine->state(Slot::current).R), 1e-12) << c.method;

@@ -1,4 +1,4 @@
-// tests/fault_shim.cpp — an LD_PRELOAD library for fault injection in the `lgi` process (test_reliability).
+// tests/cli/fault_shim.cpp — an LD_PRELOAD library for fault injection in the `lgi` process (test_reliability).
 //
 // It interposes the system calls through which lgi writes files — write, fsync, close, rename, mkostemp, ftruncate —
 // and counts them. With LGI_FAULT_KILL_AT=k in the environment, the k-th interposed call raises SIGKILL before it

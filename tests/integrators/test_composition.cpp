@@ -192,7 +192,7 @@ TEST(SplitDmvCompositions, OrdersEightAndTenInLongDouble) {
 // ---- observed orders ---------------------------------------------------------------------------------
 
 // The free symmetric body J = Q diag(I, I, I3) Qᵀ: elementary exact solution, evaluated in long double
-// (see tests/test_commutator_free.cpp, which also checks it against the long-double RK4 reference).
+// (see tests/integrators/test_commutator_free.cpp, which also checks it against the long-double RK4 reference).
 struct SymmetricBody {
   Mat3<double> Q = so3::exp(Vec3<double>(0.3, -0.2, 0.5));
   double I = 0.8, I3 = 1.3;

@@ -9,6 +9,7 @@
 //    (compensated), against the same formulas evaluated in 113-bit arithmetic (Boost.Multiprecision);
 //  - the Jacobi functions and Π against Boost.Math, and near the separatrix against 113-bit Boost;
 //  - cost per call and no heap allocation.
+#include "allocation_counter.hpp"
 #include "fp_traps.hpp"
 #include "test_problems.hpp"
 
@@ -26,7 +27,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -35,36 +35,6 @@
 #include <string>
 #include <vector>
 
-#if defined(__SANITIZE_ADDRESS__)
-#define LGI_COUNT_ALLOCATIONS 0
-#else
-#define LGI_COUNT_ALLOCATIONS 1
-#endif
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-#if LGI_COUNT_ALLOCATIONS
-// Every malloc in the process is counted (operator new goes through malloc), as in test_no_allocation.cpp.
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* malloc(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t n, std::size_t m) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_calloc(n, m);
-}
-void* realloc(void* p, std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_realloc(p, n);
-}
-}
-#endif
 
 // GCC's binary128 (IEEE quadruple, 113-bit significand; software arithmetic, no library call for + − × ÷),
 // as an Eigen scalar: the fast 113-bit reference integration near the separatrix. Several times faster
@@ -755,19 +725,19 @@ TEST(FreeBodyExact, CostPerCall) {
 
 // No heap allocation in flow or state (Boost's special functions, fixed-size Eigen).
 TEST(FreeBodyExact, NoAllocation) {
-#if LGI_COUNT_ALLOCATIONS
+#if !defined(__SANITIZE_ADDRESS__)
   for (const Case& c : regime_cases()) {
     const FreeBodyExact<double> exact(c.J);
     const FreeBodyExact<double, double> fast(c.J);
     State<double> x = c.x0;
     MomentumState<double> y{c.x0.R, c.J * c.x0.Omega};
-    const long before = g_allocations.load();
+    const long before = test::allocations();
     for (int i = 0; i < 200; ++i) {
       x = exact.flow(x, 0.05);
       y = fast.flow(y, 0.05);
     }
     const State<double> far = exact.solve(c.x0).state(1e4);
-    const long after = g_allocations.load();
+    const long after = test::allocations();
     EXPECT_EQ(after - before, 0) << c.name;
     EXPECT_TRUE(is_finite(x) && is_finite(y) && is_finite(far)) << c.name;
   }

@@ -1,4 +1,4 @@
-// tests/test_dispatch.cpp — the runtime-dispatched copies of the splitting steps (core/scalar.hpp,
+// tests/core/test_dispatch.cpp — the runtime-dispatched copies of the splitting steps (core/scalar.hpp,
 // LGI_DISPATCH_CLONES; integrators/splitting.hpp) give the same results bit for bit as the step compiled for
 // the baseline instruction set. This executable is the one test built with the copies on: step() goes through
 // the copy the loader picked for this CPU (AVX2 where it has it), step_inline() is the baseline code of this

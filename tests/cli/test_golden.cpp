@@ -1,11 +1,11 @@
 // The bytes `lgi` writes, pinned: every scene of scenes/ and scenes/bench/, every method on four problems (fixed
 // steps; with projection and adaptive steps where the method takes them), sweeps (batched, member by member, with
 // in-run records, the Euler-angle top), shards merged, and a stopped run resumed — each output's FNV-1a hash and exit
-// status against tests/golden_outputs.txt, recorded from the binary before the engine was restructured (commit
+// status against tests/cli/golden_outputs.txt, recorded from the binary before the engine was restructured (commit
 // 0364ffb's code), so that no change of structure changes a bit of a result.
 //
 // Regenerate (only when a change of results is intended, and say so in the commit):
-//   LGI_GOLDEN_WRITE=1 build/tests/test_golden      (writes tests/golden_outputs.txt)
+//   LGI_GOLDEN_WRITE=1 build/tests/test_golden      (writes tests/cli/golden_outputs.txt)
 #include "../apps/hashing.hpp"
 #include "lgi_process.hpp"
 
@@ -58,7 +58,7 @@ class Golden : public lgi::test::CommandTest {
     const std::string file = LGI_GOLDEN_FILE;
     if (std::getenv("LGI_GOLDEN_WRITE")) {
       std::ofstream out(file, std::ios::trunc);
-      out << "# name status fnv1a64 bytes — tests/test_golden.cpp (LGI_GOLDEN_WRITE=1 build/tests/test_golden)\n";
+      out << "# name status fnv1a64 bytes — tests/cli/test_golden.cpp (LGI_GOLDEN_WRITE=1 build/tests/test_golden)\n";
       for (const auto& [name, value] : got_) out << name << " " << value << "\n";
       std::printf("[ written  ] %zu outputs to %s\n", got_.size(), file.c_str());
       return;

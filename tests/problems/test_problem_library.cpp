@@ -122,7 +122,7 @@ double max_abs(const std::vector<double>& v, std::size_t from, std::size_t to) {
   for (std::size_t i = from; i < to; ++i) m = std::max(m, std::abs(v[i]));
   return m;
 }
-// The criteria of tests/test_long_run.cpp: the largest |error| of the last tenth over that of the first
+// The criteria of tests/integrators/test_long_run.cpp: the largest |error| of the last tenth over that of the first
 // (≈ 1 bounded, ≈ 10 for a linear drift from zero), and the change of the signed mean error between the
 // first and last tenth relative to the largest |error| (≈ 0 bounded, 0.9 for a linear drift).
 double growth_ratio(const std::vector<double>& e) {
@@ -249,7 +249,7 @@ TEST(LagrangeSplit, ObservedOrderIsTwo) {
 
 // m_ψ = Π3 is untouched by every operation of the step: bit for bit in the stepped state after 10⁵
 // steps, and to one rounding in the output. m·k to round-off, R on SO(3), energy bounded (the criteria
-// of tests/test_long_run.cpp). m_ψ is a linear invariant (Ω3' ≡ 0 for M3 ≡ 0), so RKMK4 and the LGVI
+// of tests/integrators/test_long_run.cpp). m_ψ is a linear invariant (Ω3' ≡ 0 for M3 ≡ 0), so RKMK4 and the LGVI
 // keep it to round-off as well (measured below); the negative control is a top that is not symmetric
 // (I2 = 1.05 I1), where the same measurement sees m_ψ change.
 TEST(LagrangeSplit, ConservesMomentumPsiExactlyAndMomentumKToRoundOff) {
@@ -918,7 +918,7 @@ TEST(PotentialProblem, FieldBodyEnergyUnderLgvi) {
 // ---------------------------------------------------------------------------------------------------
 // The tutorial's problem (examples/new_problem/tethered_top.hpp), compiled here: it runs, the LGVI keeps
 // its energy to O(h²) without drift, and docs/new_problem.md shows exactly this code.
-const std::filesystem::path source_root = std::filesystem::path(__FILE__).parent_path().parent_path();
+const std::filesystem::path source_root = std::filesystem::path(__FILE__).parent_path().parent_path().parent_path();  // tests/problems/ → the root
 
 std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);

@@ -352,7 +352,7 @@ TEST(EuclideanRk, DriverStopsNearTheCoordinateSingularity) {
 
 // ---- the reproduction's report ----------------------------------------------------------------------
 
-std::filesystem::path source_dir() { return std::filesystem::path(__FILE__).parent_path().parent_path(); }
+std::filesystem::path source_dir() { return std::filesystem::path(__FILE__).parent_path().parent_path().parent_path(); }  // tests/problems/ → the root
 
 // Every table of docs/seed_paper.md between <!-- table:NAME --> markers is exactly what the program
 // computes now (scripts/seed_report.sh regenerates them).

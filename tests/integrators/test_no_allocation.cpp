@@ -1,8 +1,7 @@
-// No heap allocation in the step loop, measured: this executable counts every call to malloc, calloc,
-// realloc, aligned_alloc and posix_memalign in the process (operator new goes through malloc), and
-// checks that stepping and driving every integrator on every problem makes none.
-// (Interposing malloc clashes with sanitizer runtimes, which interpose it themselves: under ASan the
-// counter is off and the test is skipped.)
+// No heap allocation in the step loop, measured (allocation_counter.hpp counts every allocation of the process):
+// stepping and driving every integrator on every problem makes none. Under ASan the counter is off and the test
+// is skipped.
+#include "allocation_counter.hpp"
 #include "test_problems.hpp"
 
 #include <lgi/core/driver.hpp>
@@ -28,51 +27,10 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cstddef>
 #include <span>
 #include <vector>
 
-#if defined(__SANITIZE_ADDRESS__)
-#define LGI_COUNT_ALLOCATIONS 0
-#else
-#define LGI_COUNT_ALLOCATIONS 1
-#endif
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-#if LGI_COUNT_ALLOCATIONS
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-
-void* malloc(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t n, std::size_t m) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_calloc(n, m);
-}
-void* realloc(void* p, std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_realloc(p, n);
-}
-void* aligned_alloc(std::size_t a, std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_memalign(a, n);
-}
-int posix_memalign(void** p, std::size_t a, std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  *p = __libc_memalign(a, n);
-  return *p ? 0 : 12;  // ENOMEM
-}
-}
-#endif
 
 namespace lgi {
 namespace {
@@ -86,24 +44,24 @@ void expect_no_allocation(const P& problem, const State<double>& x0) {
   auto observe = [&](double t, const State<double>&) { sampled.push_back(t); };
   const double times[] = {0.5, 0.75, 1.0};
 
-  const long before = g_allocations.load();
+  const long before = test::allocations();
   for (int i = 0; i < 1000; ++i) ASSERT_EQ(stepper.step(y, 0.001 * i, 0.001), StepStatus::ok);
   State<double> x = x0;
   integrate_times(stepper, x, 0.0, 0.001, std::span<const double>(times), observe);
   integrate_every(stepper, x, 0.0, 0.001, 1.0, 100, observe, [](std::int64_t) { return true; });
-  const long after = g_allocations.load();
+  const long after = test::allocations();
   EXPECT_EQ(after - before, 0) << Method<P>::traits.name << " on " << P::name;
 }
 
 TEST(NoAllocation, CounterWorks) {
-  if (!LGI_COUNT_ALLOCATIONS) GTEST_SKIP() << "allocation counter disabled under sanitizers";
-  const long before = g_allocations.load();
+  if (!test::counting_allocations) GTEST_SKIP() << "allocation counter disabled under sanitizers";
+  const long before = test::allocations();
   std::vector<double> v(100);
-  EXPECT_GT(g_allocations.load(), before);  // the counter sees allocations at all
+  EXPECT_GT(test::allocations(), before);  // the counter sees allocations at all
 }
 
 TEST(NoAllocation, StepLoopsOfEveryIntegrator) {
-  if (!LGI_COUNT_ALLOCATIONS) GTEST_SKIP() << "allocation counter disabled under sanitizers";
+  if (!test::counting_allocations) GTEST_SKIP() << "allocation counter disabled under sanitizers";
   const auto top = test::skew_heavy_top();
   const auto body = FreeBody<double>::hairer_vilmart();
   const State<double> x0 = test::skew_initial_state();
@@ -117,7 +75,7 @@ TEST(NoAllocation, StepLoopsOfEveryIntegrator) {
 
 // The problem library (problems/lagrange_top.hpp … potential_problem.hpp) and its splitting.
 TEST(NoAllocation, ProblemLibrary) {
-  if (!LGI_COUNT_ALLOCATIONS) GTEST_SKIP() << "allocation counter disabled under sanitizers";
+  if (!test::counting_allocations) GTEST_SKIP() << "allocation counter disabled under sanitizers";
   const State<double> x0 = test::skew_initial_state();
   const auto lagrange = LagrangeTop<double>::make(2.0, 1.0, 1.0, Vec3<double>(0, 0.6, 0.8));
   expect_no_allocation<LagrangeSplit>(lagrange, x0);
@@ -137,7 +95,7 @@ TEST(NoAllocation, ProblemLibrary) {
 
 // Commutator-free methods and compositions (integrators/commutator_free.hpp, composition.hpp).
 TEST(NoAllocation, CommutatorFreeAndCompositions) {
-  if (!LGI_COUNT_ALLOCATIONS) GTEST_SKIP() << "allocation counter disabled under sanitizers";
+  if (!test::counting_allocations) GTEST_SKIP() << "allocation counter disabled under sanitizers";
   const auto top = test::skew_heavy_top();
   const auto body = FreeBody<double>::hairer_vilmart();
   const State<double> x0 = test::skew_initial_state();
@@ -158,7 +116,7 @@ TEST(NoAllocation, CommutatorFreeAndCompositions) {
 // Splittings: kicks + axis rotations / DMV / preprocessed DMV (integrators/splitting.hpp), diagonal and
 // non-diagonal J, and the DMV substeps at h|Ω| > 1 taken inside the flow.
 TEST(NoAllocation, Splittings) {
-  if (!LGI_COUNT_ALLOCATIONS) GTEST_SKIP() << "allocation counter disabled under sanitizers";
+  if (!test::counting_allocations) GTEST_SKIP() << "allocation counter disabled under sanitizers";
   const auto top = test::skew_heavy_top();
   const auto hv = HeavyTop<double>::hairer_vilmart();
   const auto body = FreeBody<double>::hairer_vilmart();
@@ -176,7 +134,7 @@ TEST(NoAllocation, Splittings) {
 
 // Runge–Kutta on the Euler angles of the seed paper's top (integrators/euclidean_rk.hpp) and its driver.
 TEST(NoAllocation, EuclideanRkOnEulerAngles) {
-  if (!LGI_COUNT_ALLOCATIONS) GTEST_SKIP() << "allocation counter disabled under sanitizers";
+  if (!test::counting_allocations) GTEST_SKIP() << "allocation counter disabled under sanitizers";
   EulerAngleTop<double> top;
   top.I2 = 2.0;
   top.I3 = 1.0;
@@ -190,14 +148,14 @@ TEST(NoAllocation, EuclideanRkOnEulerAngles) {
   sampled.reserve(64);
   auto observe = [&](double t, const EulerAngleTop<double>::Vector&) { sampled.push_back(t); };
   const double times[] = {0.5, 0.75, 1.0};
-  const long before = g_allocations.load();
+  const long before = test::allocations();
   auto y = y0;
   for (int i = 0; i < 1000; ++i) ASSERT_EQ(rk4.step(y, 0.001 * i, 0.001), StepStatus::ok);
   for (int i = 0; i < 1000; ++i) ASSERT_EQ(dp5.step(y, 0.001 * i, 0.001), StepStatus::ok);
   y = y0;
   integrate_times_euclidean(rk4, y, 0.0, 0.001, std::span<const double>(times), observe);
   integrate_every_euclidean(rk4, y, 0.0, 0.001, 1.0, 100, observe, [](std::int64_t) { return true; });
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(test::allocations() - before, 0);
 }
 
 // The RKMK family, the embedding baselines, projected steppers and the adaptive driver
@@ -218,17 +176,17 @@ void expect_no_allocation_adaptive(const P& problem, const State<double>& x0) {
   const double times[] = {0.3, 0.55, 1.0, 2.0};
   AdaptiveOptions every;
   every.every = 10;
-  const long before = g_allocations.load();
+  const long before = test::allocations();
   State<double> x = x0;
   integrate_adaptive(stepper, x, 0.0, 0.01, std::span<const double>(times), observe);
   integrate_adaptive(stepper, x, 0.0, 0.01, std::span<const double>(times), observe, every,
                      [](std::int64_t) { return true; });
-  const long after = g_allocations.load();
+  const long after = test::allocations();
   EXPECT_EQ(after - before, 0) << S::traits.name << " (adaptive) on " << P::name;
 }
 
 TEST(NoAllocation, RkmkFamilyBaselinesProjectionAdaptive) {
-  if (!LGI_COUNT_ALLOCATIONS) GTEST_SKIP() << "allocation counter disabled under sanitizers";
+  if (!test::counting_allocations) GTEST_SKIP() << "allocation counter disabled under sanitizers";
   const auto top = test::skew_heavy_top();
   const auto body = FreeBody<double>::hairer_vilmart();
   const State<double> x0 = test::skew_initial_state();

@@ -338,7 +338,7 @@ TEST_F(Reliability, FullTmpfsKeepsWholeRowsAndAResumableCheckpoint) {
 
 TEST_F(Reliability, KillAtEverySystemCallOfTheCheckpointWritesResumesToTheSameBytes) {
 #ifndef LGI_FAULT_SHIM
-  GTEST_SKIP() << "the fault-injection shim (tests/fault_shim.cpp) was not built";
+  GTEST_SKIP() << "the fault-injection shim (tests/cli/fault_shim.cpp) was not built";
 #else
   const fs::path scene = top_scene(6, 250);
   ASSERT_EQ(run({"run", scene.string(), "-o", p("ref.csv"), "-q"}).status, 0);

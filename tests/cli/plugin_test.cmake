@@ -97,7 +97,7 @@ file(COPY ${prefix}/ DESTINATION ${other})
 file(READ ${other}/include/lgi/app/version.hpp version_text)
 string(REGEX REPLACE "LGI_VERSION_STRING \"[^\"]*\"" "LGI_VERSION_STRING \"0.0.1\"" version_text "${version_text}")
 file(WRITE ${other}/include/lgi/app/version.hpp "${version_text}")
-run(${CMAKE_COMMAND} -S ${LGI_SOURCE_DIR}/tests/plugin_fixtures -B ${WORK_DIR}/fixtures -DCMAKE_PREFIX_PATH=${other}
+run(${CMAKE_COMMAND} -S ${LGI_SOURCE_DIR}/tests/cli/plugin_fixtures -B ${WORK_DIR}/fixtures -DCMAKE_PREFIX_PATH=${other}
     -DCMAKE_BUILD_TYPE=Release)
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/fixtures)
 refused(${WORK_DIR}/fixtures/libnot_a_plugin.so "not an lgi plugin")

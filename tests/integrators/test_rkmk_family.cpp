@@ -220,7 +220,7 @@ TYPED_TEST_SUITE(RkmkFamily, FamilyMethods);
 // 8.9e-2 against 3.6e-3), and in the Cayley chart, with its larger error constants (rkmk.hpp), the terms of the
 // global error beyond h⁹ keep the local slopes above 9.2 down to h|Ω(0)| ≈ 0.13 on the skew top (where e/h⁹ is
 // 1.37× its limit at h|Ω(0)| = 0.27) and ≈ 0.01 on the GNI body (e/h⁹ twice its limit at h|Ω(0)| = 0.03).
-// The order itself is measured beyond double, in tests/test_quad_order.cpp: 9.002 on the skew top in binary128
+// The order itself is measured beyond double, in tests/integrators/test_quad_order.cpp: 9.002 on the skew top in binary128
 // (errors 7.8e-21 … 1.5e-29, e/h⁹ → 6.92e-7) and 9.096 on the GNI body in 50 digits (3.7e-27 … 7.2e-37, local
 // slopes 9.30 → 9.02, e/h⁹ → 2.84e-9); the typed tests below defer to those. Kept here as findings: on the skew
 // top in long double, e(h)/h⁹ = A + B h fitted over h|Ω(0)| = 0.45 … 0.18 has A > 0 (4.4e-7 + 2.7e-6 h;
@@ -263,14 +263,14 @@ TEST(RkmkFamilyFindings, Vern9CayleySkewTopInLongDouble) {
 
 // Verner 9(8) on the GNI free body in long double (see above): from h|Ω(0)| = 1 (the standard window, 0.4, spans
 // only four points, 5e-13 … 1e-15, before the floor); local slopes 10.0 throughout. (In 50 digits the slopes
-// come down to 9.02 at 7e-37: tests/test_quad_order.cpp.)
+// come down to 9.02 at 7e-37: tests/integrators/test_quad_order.cpp.)
 TEST(RkmkFamilyFindings, Vern9CayleyGniFreeBodyInLongDouble) {
   const double p = observed_order<RkmkVern9Cayley>(gni_body(), gni_state(), 10.0, gni_reference(), "free body", 1.0);
   EXPECT_GT(p, 9.8);
   EXPECT_LT(p, 10.3);
 }
 
-// The methods whose order shows only beyond double are measured in tests/test_quad_order.cpp (QuadOrder, built
+// The methods whose order shows only beyond double are measured in tests/integrators/test_quad_order.cpp (QuadOrder, built
 // where GCC's __float128 and libquadmath are available): rkmk_vern9_cayley on both cases, rkmk_dp8_cayley on the
 // free body.
 TYPED_TEST(RkmkFamily, ObservedOrderOnTheSkewHeavyTop) {
@@ -356,7 +356,7 @@ double max_abs(const std::vector<double>& v) {
 
 // The change of the mean (signed) error between the first and the last tenth of the run, relative to the
 // largest |error|: ≈ 0 for an error oscillating about a fixed mean, ≈ 0.9 for a linear drift from 0
-// (the measure of tests/test_long_run.cpp).
+// (the measure of tests/integrators/test_long_run.cpp).
 double mean_shift(const std::vector<double>& err) {
   const std::size_t n = err.size(), tenth = n / 10;
   double first = 0, last = 0;
@@ -367,7 +367,7 @@ double mean_shift(const std::vector<double>& err) {
   return std::abs(last - first) / static_cast<double>(tenth) / max_abs(err);
 }
 
-// The drift slope of tests/test_composition.cpp (the measure the symplectic compositions must keep below 0.1):
+// The drift slope of tests/integrators/test_composition.cpp (the measure the symplectic compositions must keep below 0.1):
 // log max |energy error| over 64 equal windows of the run (the first left out) against log of the window's
 // middle time. ≈ 0 for a bounded error, → 1 for a linear drift, ≈ 0.5 for a random walk.
 double drift_slope(const LongRun& run) {
