@@ -1,6 +1,9 @@
-// No heap allocation in the step loop, measured (allocation_counter.hpp counts every allocation of the process):
-// stepping and driving every integrator on every problem makes none. Under ASan the counter is off and the test
-// is skipped.
+// No heap allocation in the library's loops, measured (allocation_counter.hpp counts every allocation of the
+// process): steps and the library's drivers (integrate_times, integrate_every, integrate_adaptive, the Euler-angle
+// and batch paths) with an observer, on the cases the conformance suite (test_conformance.cpp: every registered
+// method on four problems, through the engine's loop) does not run: the Kovalevskaya top, a body whose torque is
+// differentiated automatically, diagonal-J splittings, DMV substeps at h|Ω| > 1. Under ASan the counter is off and
+// the test is skipped.
 #include "allocation_counter.hpp"
 #include "test_problems.hpp"
 
@@ -79,10 +82,7 @@ TEST(NoAllocation, ProblemLibrary) {
   const State<double> x0 = test::skew_initial_state();
   const auto lagrange = LagrangeTop<double>::make(2.0, 1.0, 1.0, Vec3<double>(0, 0.6, 0.8));
   expect_no_allocation<LagrangeSplit>(lagrange, x0);
-  expect_no_allocation<LagrangeSplitKahanLi8>(lagrange, x0);
-  expect_no_allocation<Lgvi>(lagrange, x0);
   expect_no_allocation<Lgvi>(KovalevskayaTop<double>{}, x0);
-  expect_no_allocation<Rkmk4>(Satellite<double>{}, x0);
   FieldPotentialBody<double> field;  // torque by automatic differentiation
   field.V.terms = 1;
   field.V.b[0] = 1.0;
@@ -93,43 +93,16 @@ TEST(NoAllocation, ProblemLibrary) {
   expect_no_allocation<Rkmk4>(field, x0);
 }
 
-// Commutator-free methods and compositions (integrators/commutator_free.hpp, composition.hpp).
-TEST(NoAllocation, CommutatorFreeAndCompositions) {
-  if (!test::counting_allocations) GTEST_SKIP() << "allocation counter disabled under sanitizers";
-  const auto top = test::skew_heavy_top();
-  const auto body = FreeBody<double>::hairer_vilmart();
-  const State<double> x0 = test::skew_initial_state();
-  expect_no_allocation<Cf4>(top, x0);
-  expect_no_allocation<Cg3>(top, x0);
-  expect_no_allocation<Cf4>(body, x0);
-  expect_no_allocation<LgviYoshida4>(top, x0);
-  expect_no_allocation<LgviKahanLi8>(top, x0);
-  expect_no_allocation<LgviSofroniouSpaletta10>(top, x0);
-  expect_no_allocation<LgviSuzuki4>(body, x0);
-  expect_no_allocation<SplitDmvYoshida4>(top, x0);
-  expect_no_allocation<SplitDmvSuzuki4>(body, x0);
-  expect_no_allocation<SplitDmvKahanLi6>(top, x0);
-  expect_no_allocation<SplitDmvKahanLi8>(top, x0);
-  expect_no_allocation<SplitDmvSofroniouSpaletta10>(top, x0);
-}
-
 // Splittings: kicks + axis rotations / DMV / preprocessed DMV (integrators/splitting.hpp), diagonal and
 // non-diagonal J, and the DMV substeps at h|Ω| > 1 taken inside the flow.
 TEST(NoAllocation, Splittings) {
   if (!test::counting_allocations) GTEST_SKIP() << "allocation counter disabled under sanitizers";
-  const auto top = test::skew_heavy_top();
   const auto hv = HeavyTop<double>::hairer_vilmart();
   const auto body = FreeBody<double>::hairer_vilmart();
   const State<double> x0 = test::skew_initial_state();
-  expect_no_allocation<SplitAxes>(top, x0);
-  expect_no_allocation<SplitDmv>(top, x0);
-  expect_no_allocation<SplitDmv10>(top, x0);
   expect_no_allocation<SplitAxes>(hv, x0);
   expect_no_allocation<SplitDmv>(hv, x0);
-  expect_no_allocation<SplitDmv4>(body, x0);
   expect_no_allocation<SplitDmv>(body, State<double>{Mat3<double>::Identity(), Vec3<double>(900.0, 300.0, -500.0)});
-  expect_no_allocation<SplitExact>(top, x0);
-  expect_no_allocation<SplitExact>(body, x0);
 }
 
 // Runge–Kutta on the Euler angles of the seed paper's top (integrators/euclidean_rk.hpp) and its driver.
