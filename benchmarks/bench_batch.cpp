@@ -1,4 +1,4 @@
-// benchmarks/bench_batch.cpp — ns per body-step of the batched kick + LGVI and RKMK4 on the heavy top (issue 8).
+// benchmarks/bench_batch.cpp — ns per body-step of the batched kick + LGVI and RKMK4 on the heavy top.
 //
 // N Hairer–Vilmart heavy tops (J = diag(0.6, 0.8, 1), b = 1, k = z0 = e3), uniformly random attitudes, body
 // momenta JΩ in random directions with |JΩ| uniform in [0.5, 2] × |(1.8, 0.4, −0.9)| (the bench_steps body),

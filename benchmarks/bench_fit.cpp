@@ -1,4 +1,4 @@
-// bench_fit — the cost of a fit (issue 6): the first acceptance case, Ω0 of the skew heavy top (non-diagonal
+// bench_fit — the cost of a fit: the first acceptance case, Ω0 of the skew heavy top (non-diagonal
 // inertia, tilted k and z0; tests/test_problems.hpp) from 50 noise-free attitudes over T = 10 (h = 0.01,
 // 1000 steps), started 20 % off, with LGVI and RKMK4. Google Benchmark; per fit it reports the solver's
 // iterations, the integrations (one in double plus one in Jet<8> per evaluation with Jacobian) and the time

@@ -1,5 +1,5 @@
 // benchmarks/exp_count.cpp — a plain program for callgrind: the cost of so3::exp_coefficients where it takes sin
-// (0.1 ≤ θ ≤ π: core/trig.hpp's polynomial sin since issue 8, libm before), and of RKMK4 steps that take it.
+// (0.1 ≤ θ ≤ π: core/trig.hpp's polynomial sin), and of RKMK4 steps that take it.
 //
 //   exp_count exp N          N calls of so3::exp_coefficients, θ cycling through [0.1, π) in 1000 steps
 //   exp_count rkmk4 N        N RKMK4 steps of the Hairer–Vilmart heavy top at h = 0.05, JΩ0 = 3 (1.8, 0.4, −0.9)

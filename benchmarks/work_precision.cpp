@@ -12,7 +12,7 @@
 //   --smoke       tiny sizes for CI: 3 points per method, one repetition, long horizon T = 100, nothing
 //                 written but --out (default for --out: work_precision.json in the current directory)
 //
-// Method (the fair rules of issue 5):
+// Method (the fair rules):
 //   - every solver integrates the same body from the same initial state (wp_common.hpp); lgi's methods on
 //     SO(3) × R³, the peers on (quaternion, body momentum); same compiler and flags (this file's build);
 //   - solver creation and reset (initial state, re-initialisation) are outside the timed region: a sample
@@ -91,7 +91,7 @@ struct Options {
   double max_run = 0.1;     // seconds: longest single run in a sweep
   double min_batch = 2e-3;  // seconds: shortest timed batch
   int max_points = 24;
-  double long_t = 1e5;  // issue 5: ≥ 1e4. At 1e4 the best peer keeps the free body's energy to 2e-14, within 100× of round-off
+  double long_t = 1e5;  // at least 1e4. At 1e4 the best peer keeps the free body's energy to 2e-14, within 100× of round-off
   bool long_horizon = true;
   bool smoke = false;
   bool make_refs = false;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# scripts/bench.sh — the whole benchmark suite in one command (issue 5): builds what it needs, runs
+# scripts/bench.sh — the whole benchmark suite in one command: builds what it needs, runs
 # everything in one session, writes the JSON, docs/benchmarks.md and the plots in docs/img/.
 #
 #   scripts/bench.sh [--smoke] [--no-build] [BUILD_DIR]          (default BUILD_DIR: build-bench)

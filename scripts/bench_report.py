@@ -24,8 +24,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 TARGETS = ["1e-06", "1e-08", "1e-10"]
 EPS_LABEL = {"1e-06": "1e-6", "1e-08": "1e-8", "1e-10": "1e-10"}
 
-# NUMERICS.md, "Measured anchors" (heavy top, h = 0.01, throwaway prototypes, g++ 12 -O3): ns/step and
-# instructions/step. issue 5: ns/step within 1.5x of these floors.
+# The cost of throwaway prototypes of each algorithm measured when lgi was designed (heavy top, h = 0.01,
+# g++ 12 -O3): ns/step and instructions/step. lgi's target: ns/step within 1.5x of these floors.
 ANCHORS = {
     "rk4quat": ("RK4 on quaternion + renormalise", 70, 402),
     "split_dmv": ("kick + DMV (quaternion)", 70, 320),
@@ -223,7 +223,7 @@ def main():
           "[0, T] at 40 log-spaced times: relative energy, momentum (heavy top: |Δ(m·k)|/|m|; free body: "
           "|Δm|/|m|), the Casimir |Π| (free body), ‖RᵀR − I‖ (peers: of R(q) with q as integrated). Drift "
           "exponent: slope of log(running max of the error) against log t over [T/100, T] (0: bounded; 1: linear "
-          "drift). Target (issue 5): energy error ≥ 100× smaller than the best peer's at equal CPU time.")
+          "drift). lgi's target: an energy error at least 100× smaller than the best peer's at equal CPU time.")
         w("")
         for lh in wp["long_horizon"]:
             png = "long_%s.png" % lh["case"]
@@ -285,9 +285,10 @@ def main():
         w("")
         w("`bench_steps`, h = 0.01, periods of 1000 steps (benchmarks/bench_cases.hpp), every method of the "
           "registry; instructions per step on the HV heavy top from callgrind (next section). Floors: the "
-          "prototype anchors of shared/NUMERICS.md (issue 5: within 1.5×).")
+          "cost of minimal hand-written prototypes of each algorithm, measured when lgi was designed (g++ 12 -O3, "
+          "heavy top, h = 0.01); lgi's target is within 1.5× of them.")
         w("")
-        w("| method | heavy_top ns | free_body ns | heavy_top instr. | anchor (NUMERICS.md) | heavy_top / anchor |")
+        w("| method | heavy_top ns | free_body ns | heavy_top instr. | prototype floor | heavy_top / floor |")
         w("|---|---:|---:|---:|---|---:|")
         for method in sorted(rows, key=lambda k: rows[k].get("heavy_top", 1e9)):
             r = rows[method]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the Poincare section of an asymmetric heavy top in one command (issue 8):
+# Regenerates the Poincare section of an asymmetric heavy top in one command:
 #   1. builds the lgi command (BUILD_DIR, default build/);
 #   2. runs the sweep examples/sweep/heavy_top_poincare.json on all cores (2000 orbits of 50000 LGVI steps with a
 #      Lyapunov shadow each, ~15 s of CPU): BUILD_DIR/heavy_top_poincare.csv (one row per orbit) and

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the Lagrange top's stability diagram over spin and tilt in one command (issue 8):
+# Regenerates the Lagrange top's stability diagram over spin and tilt in one command:
 #   1. builds the lgi command (BUILD_DIR, default build/);
 #   2. runs the sweep examples/sweep/lagrange_stability.json on all cores (2480 members, ~10 s of CPU):
 #      BUILD_DIR/lagrange_stability.csv, each member's largest tilt from the vertical;

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""scripts/stability_map.py -- the stability map of issue 7: for every method and stress regime, the largest
+"""scripts/stability_map.py -- the stability map: for every method and stress regime, the largest
 h|Omega| with bounded energy and a finite state, measured by running the `lgi` command.
 
     scripts/stability_map.py --lgi build/lgi            # full map: 10 regimes, 8468 runs, ~7 min on 1 busy core
@@ -89,7 +89,7 @@ def inertia_matrix(inertia):
 
 
 # --------------------------------------------------------------------------------------------------------
-# the regimes (issue 7, item 1)
+# the regimes
 
 def regimes():
     hv_omega = [3.0, 0.5, -0.9]  # Hairer-Vilmart: I = (0.6, 0.8, 1.0), m0 = I Omega0 = (1.8, 0.4, -0.9)
@@ -861,7 +861,7 @@ def check(data, md, strict=False):
                 problems.append("malformed cell %r in %s" % (c, l))
     # lgi must never crash, hang or exit with a status other than 0 and 2 on a valid scene; the other findings
     # (a non-finite number written, a trait's claim broken) fail the check only with --strict, because
-    # issue 7 item 2 (failure handling) owns "no NaN in the output" and tests it itself.
+    # "no NaN in the output" is the command's own contract, tested with its failure handling (tests/cli).
     for f in data["findings"]:
         severe = f["status"] in ("crash", "hang", "error", "failed_other")
         if severe or strict:

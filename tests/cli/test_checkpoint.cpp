@@ -1,4 +1,4 @@
-// `lgi run` when a run does not complete, and checkpoints (issue 7, parts 2, 4, 5), run as a separate process:
+// `lgi run` when a run does not complete, and checkpoints, run as a separate process:
 //   - failures (Newton, non-finite, adaptive step-size underflow) and budgets (scene "limits") end with their exit
 //     status, the rows so far plus a last row with the last good state in -o FILE, no NaN, where and why on stderr;
 //   - a run stopped by a budget, SIGTERM, or SIGKILL after a checkpoint, resumed from its checkpoint, writes the

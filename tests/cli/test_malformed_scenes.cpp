@@ -1,4 +1,4 @@
-// Malformed scene files through the real `lgi run`, each against its golden message (issue 7, input safety).
+// Malformed scene files through the real `lgi run`, each against its golden message.
 //
 // Every case is a valid scene with one thing broken (or a file whose bytes are the point: BOM, invalid
 // UTF-8, NUL, a file over the loader's size limit, nesting 100 000 deep — those are generated here into a

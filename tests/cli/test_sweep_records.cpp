@@ -74,7 +74,7 @@ double lagrange_max_tilt(double I1, double I3, double b, double theta0, double o
   return 2 * std::asin(std::sqrt(std::min(1.0, one_minus / 2)));
 }
 
-// The acceptance test of issue 8's stability diagram: the Lagrange top (I1 = 2, I3 = 1, b = 1) spinning about its
+// The stability diagram's acceptance test: the Lagrange top (I1 = 2, I3 = 1, b = 1) spinning about its
 // axis near the upright is stable iff (I3 ω)² > 4 b I1, i.e. ω > ω* = 2√2 = 2.8284. A grid of spins with
 // Δω = 0.05 (ω* falls between 2.80 and 2.85) at tilts θ0 = 1e-3 and 1e-4, LGVI over T = 200, the largest tilt
 // recorded per member. Classified unstable when it exceeds 10 θ0: analytically (above) the level-10 contour lies

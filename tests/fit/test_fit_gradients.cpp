@@ -1,5 +1,4 @@
-// Derivatives of the fit's residuals through the integrators, against central differences (issue 6,
-// acceptance 5), and the manifolds of R0 and z0 against Ceres' own invariant checks.
+// Derivatives of the fit's residuals through the integrators, against central differences, and the manifolds of R0 and z0 against Ceres' own invariant checks.
 //
 // Every unknown of the heavy top at once (Ω0, R0 on SO(3), the three principal moments, b, z0 on S²: 12
 // tangent coordinates, so Jet<8> takes two passes), observations of every kind (attitude, gyro, body axis) over

@@ -1,4 +1,4 @@
-// Fitting R0, Ω0 and the principal moments of inertia to attitude + gyro observations (issue 6, acceptance 3),
+// Fitting R0, Ω0 and the principal moments of inertia to attitude + gyro observations,
 // and what the observations cannot fix.
 //
 // A free body's motion (R(t), Ω(t)) is unchanged when the inertia is scaled, J → λJ (Euler's equations

@@ -1,4 +1,4 @@
-// Fitting Ω0 to attitude observations of an asymmetric heavy top (issue 6, acceptance 1 and 2).
+// Fitting Ω0 to attitude observations of an asymmetric heavy top.
 //
 // Noise-free recovery: the data come from the same method and step as the fit, so that the test measures the
 // fit itself (the optimiser, the derivatives, the stopping rule), not the discretisation: the recovered Ω0 must

@@ -1,4 +1,4 @@
-// Periodic orbits (issue 6, acceptance 4): Ω0 and the period T with the state returning to itself modulo the
+// Periodic orbits: Ω0 and the period T with the state returning to itself modulo the
 // problem's symmetry, the step T/N for fixed N.
 //
 // Free asymmetric body: every motion of Ω is periodic; with Ω0's first component fixed (it fixes the phase on

@@ -159,7 +159,7 @@ TEST(EmbeddingMaps, PolarFactorRefusesMatricesFarFromSO3) {
 
 // rk4_mat_renorm on the free body at h|Ω| from 0.5 to 4: every step either fails (not_converged /
 // non_finite, state untouched) or leaves R orthogonal to round-off. Before the fix, h|Ω| = π returned
-// ok with |RᵀR − I| = 5.5e74 (issue 7's stability map).
+// ok with |RᵀR − I| = 5.5e74 (scripts/stability_map.py).
 TEST(EmbeddingMaps, RenormalisedMatrixStepNeverReturnsAnOffGroupMatrix) {
   const FreeBody<double> body = gni_body();
   const State<double> x0 = gni_state();

@@ -128,7 +128,7 @@ TEST(LongRun, Rkmk4StaysOnTheGroupButDriftsInEnergy) {
   EXPECT_GT(shift, 0.5);
 }
 
-// Issue 7's long-run figure at CI size: 10⁷ LGVI steps on the Hairer–Vilmart free body (h = 0.01, T = 10⁵).
+// The long-run figure (docs/findings.md) at CI size: 10⁷ LGVI steps on the Hairer–Vilmart free body (h = 0.01, T = 10⁵).
 // For the free body the LGVI is the discrete Moser–Veselov map, which conserves E and |m| exactly: what is
 // left is rounding, a random walk, so the bounds are the 10⁸-step acceptance (1e-11) scaled by √10 down to
 // 3e-12. The 10⁸-step run itself is benchmark-sized: `lgi run benchmarks/long_run_free_body.json` (README).

@@ -130,7 +130,7 @@ double growth_ratio(const std::vector<double>& e) {
   return max_abs(e, n - tenth, n) / max_abs(e, 1, tenth);
 }
 // Slope of log(max |error| in window i) against log(end time of window i), ten equal windows: ≈ 0 for a
-// bounded error, ≈ 1 for a linear drift (issue 3's criterion: below 0.1). Robust where the signed mean
+// bounded error, ≈ 1 for a linear drift (the criterion: below 0.1). Robust where the signed mean
 // wanders (chaotic or slowly quasi-periodic trajectories), which mean_shift is not.
 double drift_slope(const std::vector<double>& e) {
   const std::size_t n = e.size() - 1, w = n / 10;
@@ -487,11 +487,11 @@ TEST(Kovalevskaya, IntegralConservedByAnAccurateIntegration) {
 
 // Under the symplectic methods — the LGVI, and the explicit kick + axis-rotation splitting — K stays
 // bounded: no growth over 2.5·10⁵–5·10⁵ steps (largest error of the last tenth vs the first, and the
-// log-log drift slope of issue 3), error O(h²); m·k is kept to round-off. Negative control: Lie–Euler
+// log-log drift slope above), error O(h²); m·k is kept to round-off. Negative control: Lie–Euler
 // drifts and the same criteria flag it. (RKMK4 is not a clean
 // control here: its K error at h = 0.05–0.1 rises and falls again over 2000 time units. At the initial
 // state kovalevskaya_state() the LGVI's K error is bounded too but converges only like h^1.3–1.6 — the
-// orbit sits near a resonance of the perturbed torus; see the report of issue 4.)
+// orbit sits near a resonance of the perturbed torus.)
 TEST(Kovalevskaya, IntegralBoundedUnderLgvi) {
   const KovalevskayaTop<double> top = tilted_kovalevskaya_top();
   const State<double> x0{so3::exp(Vec3<double>(0.1, -0.8, 0.5)), Vec3<double>(-0.6, 0.2, 3.0)};
