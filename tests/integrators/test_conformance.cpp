@@ -9,9 +9,10 @@
 //     free_body_order on torque-free problems) lies in [p − 0.5, p + 0.5]: a method of another order shows no
 //     halving near p. Methods of order 9 and more may show up to p + 1.2: in double, above round-off, their h^(p+1)
 //     terms dominate (rkmk_vern9_cayley 9.9-10.0 on the free body, the skew top and the Lagrange top, as
-//     integrators/rkmk.hpp says; tests/integrators/test_quad_order.cpp measures 9.002 asymptotically in binary128). The DOP853
-//     family shows 7.5-7.6 on the satellite between h = 10/64 and 10/256 (a finding, docs/findings.md). A method exact to
-//     round-off on the problem (every error ≤ 1e-12: split_exact on the free body) conforms.
+//     integrators/rkmk.hpp says; tests/integrators/test_quad_order.cpp measures 9.002 asymptotically in
+//     binary128). The DOP853 family shows 7.5-7.6 on the satellite between h = 10/64 and 10/256 (a finding,
+//     docs/findings.md). A method exact to round-off on the problem (every error ≤ 1e-12: split_exact on the free
+//     body) conforms; kKnownDeviations lists the cases skipped by design, with the reason.
 //   - On the group: methods that declare R on SO(3) keep ‖RᵀR − I‖_F ≤ 1e-12 over 4096 steps.
 //   - No allocation: 1000 steps of the engine's loop (run_grid) after a warm-up allocate nothing (malloc counted
 //     in this process).
@@ -162,15 +163,16 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
 
 constexpr double kT = 10;  // the order test's horizon
 
-// Measured deviations from the declared order, not yet explained (docs/findings.md); each is a skipped case, listed
-// in the test's output.
+// Cases whose measured order is not the declared one for a reason of the method's design, each a skipped case
+// listed in the test's output.
 struct KnownDeviation {
   std::string_view method, problem, why;
 };
 constexpr KnownDeviation kKnownDeviations[] = {
     {"split_dmv10", "free_body",
-     "split_dmv10 on the free body: the same error 6.774e-11 at h = 10/16 and 10/32, then 4.4e-14 at 10/64 "
-     "(round-off): no halving shows order 10 (docs/findings.md)"},
+     "the DMV flow takes ceil(h|Pi|/min I) substeps (integrators/free_body_flows.hpp, dmv_substeps): here |Pi| = 1.81, "
+     "min I = 1, so h = 10/16 runs 2 substeps of 10/32 and gives the error of h = 10/32 (6.774e-11 both); at 10/64 "
+     "the error is round-off, so no halving in range shows order 10"},
 };
 
 class Conformance : public ::testing::TestWithParam<Case> {};
