@@ -48,9 +48,12 @@ void load_plugin(const std::string& path, const std::string& where) {
                      "): rebuild it against this lgi");
   }
   for (std::size_t i = 0; i < info->count; ++i)
-    if (find_problem(info->problems[i]->name))
-      throw InputError(prefix + "its problem type \"" + std::string(info->problems[i]->name) +
+    if (find_problem(info->problems[i]->name)) {
+      const std::string name(info->problems[i]->name);
+      dlclose(handle);
+      throw InputError(prefix + "its problem type \"" + name +
                        "\" is defined already (built in, or by another plugin)");
+    }
   for (std::size_t i = 0; i < info->count; ++i) add_problem(*info->problems[i]);
   loaded.insert(ec ? path : key);  // the library stays loaded for the life of the process
 }

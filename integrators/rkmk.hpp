@@ -98,11 +98,8 @@
 // steps scales Ω's components in the body frame (its δΩ, Ω_n, Ω_{n+1} turned back: 3 products a trial step), so
 // the step sequence is the body frame's too. Jets and other torques keep the body frame (a Jet's Q would carry
 // first-order derivatives of J only; real class types such as float128 keep it too).
-// Measured: principal-axis runs against the body frame's (Jets) ≤ 1.1e-14 over 200 steps, one adaptive trial
-// step ≤ 1.2e-15, its dense output ≤ 7.6e-16 (tests/integrators/test_rkmk_family.cpp, RkmkPrincipalAxes); callgrind on the
-// heavy top with a non-diagonal J (benchmarks/callgrind_steps.sh, heavy_top_tilted, h = 0.01): rkmk_vern9_cayley
-// 4123 → 3521, rkmk_dp8_cayley 3249 → 2819, rkmk4 1094 → 996 instructions a step — below the diagonal HV top's
-// (3580, 2891, 986), whose torque is the problem's b (Γ × z0) rather than Γ × Qᵀv.
+// Principal-axis runs equal the body frame's to round-off (tests/integrators/test_rkmk_family.cpp,
+// RkmkPrincipalAxes); their cost per step is in docs/performance.md.
 //
 // Order: that of the tableau. R stays on SO(3) to round-off (products of exponentials or Cayley
 // rotations). Not symplectic, not symmetric; energy and momentum drift like those of the underlying

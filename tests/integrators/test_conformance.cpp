@@ -194,9 +194,10 @@ TEST_P(Conformance, ObservedOrderIsTheDeclaredOne) {
   }
   for (const KnownDeviation& k : kKnownDeviations)
     if (c.method == k.method && std::string_view(c.problem->name) == k.problem) GTEST_SKIP() << k.why;
-  const MethodTraits& traits = Engine(*c.problem, c.method, 0.1).engine->traits();
-  const bool free = Engine(*c.problem, c.method, 0.1).scene.problem->torque_free();
-  const int declared = free && traits.free_body_order != 0 ? traits.free_body_order : traits.order;
+  const Engine probe(*c.problem, c.method, 0.1);
+  const MethodTraits& traits = probe.engine->traits();
+  const bool torque_free = probe.scene.problem->torque_free();
+  const int declared = torque_free && traits.free_body_order != 0 ? traits.free_body_order : traits.order;
   // The observed orders of the halvings between the pre-asymptotic steps (errors above 0.5) and round-off (errors
   // below 30 times the smallest error of the sequence, within [1e-12, 1e-9]).
   const double floor = std::clamp(30 * *std::min_element(errors.begin(), errors.end()), 1e-12, 1e-9);
