@@ -374,8 +374,10 @@ struct FieldPotential {
   Vec3<T> a = Vec3<T>::UnitZ();
   Mat3<T> Q = Mat3<T>::Zero();
 
+  // Out of line and flattened itself: every stage of every flattened step calls it, and a copy inlined into each
+  // would multiply the compiled code by the stage count.
   template <class S>
-  S operator()(const Mat3<S>& R) const {
+  [[gnu::noinline]] LGI_FLATTEN S operator()(const Mat3<S>& R) const {
     S V(0);
     for (int j = 0; j < terms; ++j) V += S(b[j]) * k[j].template cast<S>().dot(R * z[j].template cast<S>());
     if (!is_exact_zero(c)) {
