@@ -1,5 +1,5 @@
 // lgi/apps/runner_impl.hpp — the per-problem part of a run: the scene's method as an lgi::Integrator (every method
-// that applies to the problem, with and without projection), the row columns and the problem's hooks. Included by
+// that applies to the problem; projection a run-time switch of Projected), the row columns and the problem's hooks. Included by
 // problem_model.hpp: a problem's registration (apps/problems/ID.cpp, or a plugin) instantiates make_problem_runner.
 #pragma once
 
@@ -18,21 +18,20 @@
 namespace lgi::app {
 namespace runner_detail {
 
-// The scene's method on problem P: Method<P>, or Projected<Method<P>> when the scene asks for projection.
+// The scene's method on problem P: Method<P>, or Projected<Method<P>> with the projection switched by the scene where
+// the method takes one.
 template <class P, template <class> class... Ms>
 std::unique_ptr<Integrator> integrator_for(const P& problem, const Scene& scene, MethodList<Ms...>) {
   std::unique_ptr<Integrator> engine;
   const auto try_method = [&]<template <class> class M>() {
     if constexpr (method_applies_v<M, P>) {
       if (!engine && M<P>::traits.name == scene.method->traits.name) {
-        if (scene.options.projection) {
-          if constexpr (ProjectableStepper<M<P>>)  // the scene accepts "projection" only where traits list it
-            engine = make_integrator<Projected<M<P>>>(problem, scene.options);
-          else
-            throw std::logic_error("lgi: projection asked of a method that does not take it");
-        } else {
+        if constexpr (ProjectableStepper<M<P>>)  // one instantiation, the projection switched by the scene
+          engine = make_integrator<Projected<M<P>>>(problem, scene.options, scene.options.projection);
+        else if (scene.options.projection)  // the scene accepts "projection" only where traits list it
+          throw std::logic_error("lgi: projection asked of a method that does not take it");
+        else
           engine = make_integrator<M<P>>(problem, scene.options);
-        }
       }
     }
   };

@@ -112,19 +112,25 @@ class IntegratorOf final : public Integrator {
     if constexpr (AdaptiveStepper<S>) return S::control_order;
     else return 0;
   }
-  std::size_t state_size() const override { return number_count<Internal>(); }
+  std::size_t state_size() const override { return numbers(); }
 
   void set(Slot s, const State<double>& x, double t) override { put(s) = stepper_.to_internal(x, t); }
   State<double> state(Slot s) const override { return stepper_.to_state(get(s)); }
   void save(Slot s, std::span<double> numbers) const override {
     check_size(numbers.size());
     std::size_t i = 0;
-    visit_numbers(get(s), [&](const double& v) { numbers[i++] = v; });
+    visit_numbers(get(s), [&](const double& v) {
+      if (i < numbers.size()) numbers[i] = v;
+      ++i;
+    });
   }
   void restore(Slot s, std::span<const double> numbers) override {
     check_size(numbers.size());
     std::size_t i = 0;
-    visit_numbers(put(s), [&](double& v) { v = numbers[i++]; });
+    visit_numbers(put(s), [&](double& v) {
+      if (i < numbers.size()) v = numbers[i];
+      ++i;
+    });
   }
   void copy(Slot from, Slot to) override { put(to) = get(from); }
   StepStatus step(Slot s, double t, double h) override {
@@ -194,10 +200,16 @@ class IntegratorOf final : public Integrator {
     return slots_[index(s)];
   }
   static std::size_t index(Slot s) { return static_cast<std::size_t>(s) - (s > Slot::event ? 1 : 0); }
+  // The numbers of a slot: the leading numbers_in_use() of its Internal when the stepper says (Projected switched
+  // off), else all of them.
+  std::size_t numbers() const {
+    if constexpr (requires { stepper_.numbers_in_use(); }) return stepper_.numbers_in_use();
+    else return number_count<Internal>();
+  }
   void check_size(std::size_t n) const {
-    if (n != number_count<Internal>())
+    if (n != numbers())
       throw std::invalid_argument("lgi::Integrator: " + std::to_string(n) + " numbers for a state of " +
-                                  std::to_string(number_count<Internal>()));
+                                  std::to_string(numbers()));
   }
 
   S stepper_;

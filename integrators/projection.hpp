@@ -196,6 +196,10 @@ struct DenseOf<S> {
 }  // namespace detail
 
 // Any non-symplectic stepper S with the projection after every step (and after every dense output).
+//
+// Switched off (the constructor's `enabled`; the engine behind `lgi` switches it by the scene's "projection"), it
+// is S itself: the same steps, bits and counters, the targets left zero and not counted by numbers_in_use — so
+// one compiled loop serves a method with and without projection.
 template <ProjectableStepper S>
 class Projected {
  public:
@@ -209,10 +213,17 @@ class Projected {
   // The inner method's traits: the projection changes what is conserved, not what the method is.
   static constexpr MethodTraits traits = S::traits;
 
-  explicit Projected(const Problem& problem, const StepperOptions& options = {})
-      : inner_(problem, options), projection_(problem) {}
+  explicit Projected(const Problem& problem, const StepperOptions& options = {}, bool enabled = true)
+      : inner_(problem, options), projection_(problem), enabled_(enabled) {}
+
+  bool enabled() const { return enabled_; }
+  // The numbers of an Internal this stepper uses, leading in LGI_NUMBERS order: S's alone when switched off.
+  std::size_t numbers_in_use() const {
+    return enabled_ ? number_count<Internal>() : number_count<typename S::Internal>();
+  }
 
   Internal to_internal(const State<Scalar>& x, const Scalar& t) const {
+    if (!enabled_) return {inner_.to_internal(x, t), {Scalar(0), Scalar(0)}};
     return {inner_.to_internal(x, t), projection_.targets(x)};
   }
   State<Scalar> to_state(const Internal& y) const { return inner_.to_state(y.y); }
@@ -220,6 +231,7 @@ class Projected {
   // Not LGI_FLATTEN: the inner step is flattened already; flattening it again here compiled every method's
   // step twice in each runner part, for one call saved beside a projection's Newton solve.
   StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
+    if (!enabled_) return inner_.step(y.y, t, h);
     typename S::Internal z = y.y;
     const StepStatus status = inner_.step(z, t, h);
     if (status != StepStatus::ok) return status;
@@ -241,7 +253,7 @@ class Projected {
     requires(control_order > 0)
   {
     const StepStatus status = inner_.attempt(y.y, t, h, y1.y, error, d.inner);
-    if (status != StepStatus::ok) return status;
+    if (!enabled_ || status != StepStatus::ok) return status;
     d.target = y.target;
     y1.target = y.target;
     if (!project(y1.y, y.target)) {
@@ -253,6 +265,7 @@ class Projected {
   Internal dense_output(Dense& d, const Scalar& theta) const
     requires(control_order > 0)
   {
+    if (!enabled_) return {inner_.dense_output(d.inner, theta), {Scalar(0), Scalar(0)}};
     Internal z{inner_.dense_output(d.inner, theta), d.target};
     project(z.y, d.target);
     return z;
@@ -270,6 +283,11 @@ class Projected {
 
   const S& inner() const { return inner_; }
   const InvariantProjection<Problem>& projection() const { return projection_; }
+  std::int64_t newton_iterations() const
+    requires requires(const S& s) { s.newton_iterations(); }
+  {
+    return inner_.newton_iterations();
+  }
 
  private:
   bool project(typename S::Internal& z, const ProjectionTargets<Scalar>& target) const {
@@ -297,6 +315,7 @@ class Projected {
 
   S inner_;
   InvariantProjection<Problem> projection_;
+  bool enabled_;
 };
 
 }  // namespace lgi

@@ -229,6 +229,45 @@ TEST(Projection, FreeBodyEnergyAndCasimir) {
   check(Projected<Rk4QuatRenorm<FreeBody<double>>>(body), "rk4_quat_renorm");
 }
 
+// Switched off, Projected<S> is S: the same bits over fixed steps, trial steps and dense outputs (a skew heavy top,
+// which RKMK carries in principal axes), and only S's numbers in use.
+TEST(Projection, SwitchedOffIsTheInnerStepperBitForBit) {
+  const auto top = skew_top();
+  const State<double> x0 = test::skew_initial_state();
+  Rkmk4<HeavyTop<double>> plain(top);
+  Projected<Rkmk4<HeavyTop<double>>> off(top, {}, false);
+  EXPECT_FALSE(off.enabled());
+  EXPECT_EQ(off.numbers_in_use(), number_count<State<double>>());
+  EXPECT_EQ(Projected<Rkmk4<HeavyTop<double>>>(top).numbers_in_use(), number_count<State<double>>() + 2);
+  auto y = plain.to_internal(x0, 0.0);
+  auto z = off.to_internal(x0, 0.0);
+  for (int i = 0; i < 1000; ++i) {
+    ASSERT_EQ(plain.step(y, 0.01 * i, 0.01), StepStatus::ok);
+    ASSERT_EQ(off.step(z, 0.01 * i, 0.01), StepStatus::ok);
+  }
+  EXPECT_EQ(plain.to_state(y).R, off.to_state(z).R);
+  EXPECT_EQ(plain.to_state(y).Omega, off.to_state(z).Omega);
+
+  RkmkDp5<HeavyTop<double>> pair(top, tolerances(1e-9));
+  Projected<RkmkDp5<HeavyTop<double>>> pair_off(top, tolerances(1e-9), false);
+  const auto a = pair.to_internal(x0, 0.0);
+  const auto b = pair_off.to_internal(x0, 0.0);
+  auto a1 = a;
+  auto b1 = b;
+  RkmkDp5<HeavyTop<double>>::Dense da;
+  Projected<RkmkDp5<HeavyTop<double>>>::Dense db;
+  double ea = 0, eb = 0;
+  ASSERT_EQ(pair.attempt(a, 0.0, 0.05, a1, ea, da), StepStatus::ok);
+  ASSERT_EQ(pair_off.attempt(b, 0.0, 0.05, b1, eb, db), StepStatus::ok);
+  EXPECT_EQ(ea, eb);
+  EXPECT_EQ(pair.to_state(a1).R, pair_off.to_state(b1).R);
+  EXPECT_EQ(pair.to_state(a1).Omega, pair_off.to_state(b1).Omega);
+  const auto ma = pair.dense_output(da, 0.375);
+  const auto mb = pair_off.dense_output(db, 0.375);
+  EXPECT_EQ(pair.to_state(ma).R, pair_off.to_state(mb).R);
+  EXPECT_EQ(pair.to_state(ma).Omega, pair_off.to_state(mb).Omega);
+}
+
 // A steady spin about a principal axis: the two gradients are parallel, only the energy is projected, and
 // the step stays exactly R·exp(hΩ).
 TEST(Projection, SteadySpinStaysExact) {
