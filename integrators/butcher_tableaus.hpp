@@ -31,6 +31,7 @@
 #include <array>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 
 namespace lgi {
 
@@ -1277,6 +1278,32 @@ inline constexpr EmbeddedTableau<13, 21> verner8{
     .reference = "Verner, Numer. Algorithms 53 (2010) 383 (RKV87.IIa, efficient, with interpolant of order 8); "
                  "Munthe-Kaas, BIT 38 (1998) 92",
 };
+
+// Which weights of an (embedded) tableau a sum takes: the update's b, the error estimate's e, the second estimate's e3.
+enum class Weights { b, e, e3 };
+
+template <const auto& Tableau, Weights W, int I>
+constexpr auto weight() {
+  if constexpr (W == Weights::b)
+    return Tableau.b[I];
+  else if constexpr (W == Weights::e)
+    return Tableau.e[I];
+  else
+    return Tableau.e3[I];
+}
+
+// Σ_i w_i K_i over the first N stages, in stage order, the zero weights skipped at compile time.
+template <const auto& Tableau, Weights W, int N, class V, std::size_t M>
+V weighted_sum(const std::array<V, M>& K) {
+  using Scalar = typename V::Scalar;
+  V s = V::Zero();
+  [&]<int... I>(std::integer_sequence<int, I...>) {
+    ([&] {
+      if constexpr (weight<Tableau, W, I>() != 0) s += Scalar(weight<Tableau, W, I>()) * K[I];
+    }(), ...);
+  }(std::make_integer_sequence<int, N>{});
+  return s;
+}
 
 }  // namespace tableaus
 }  // namespace lgi

@@ -188,7 +188,7 @@ class EmbeddedRk {
       if (Tableau.b[i] != 0) n = i + 1;
     return n;
   }();
-  enum class Weights { b, e, e3 };
+  using Weights = tableaus::Weights;
 
  public:
   static constexpr MethodTraits traits{
@@ -348,24 +348,9 @@ class EmbeddedRk {
     return StepStatus::ok;
   }
 
-  template <Weights W, int I>
-  static constexpr auto weight() {
-    if constexpr (W == Weights::b)
-      return Tableau.b[I];
-    else if constexpr (W == Weights::e)
-      return Tableau.e[I];
-    else
-      return Tableau.e3[I];
-  }
   template <Weights W, int M, std::size_t K>
   static Vec weighted(const std::array<Vec, K>& k) {
-    Vec s = Vec::Zero();
-    [&]<int... I>(std::integer_sequence<int, I...>) {
-      ([&] {
-        if constexpr (weight<W, I>() != 0) s += Scalar(weight<W, I>()) * k[I];
-      }(), ...);
-    }(std::make_integer_sequence<int, M>{});
-    return s;
+    return tableaus::weighted_sum<Tableau, W, M>(k);
   }
 
   // The vector field on the embedding.

@@ -176,7 +176,7 @@ class Rkmk {
       if (Tableau.b[i] != 0) n = i + 1;
     return n;
   }();
-  enum class Weights { b, e, e3 };
+  using Weights = tableaus::Weights;
 
   // Scene name and title: the tableau's, with "_cayley" and " in Cayley coordinates" for the Cayley chart.
   template <std::size_t N>
@@ -412,26 +412,9 @@ class Rkmk {
       return so3::exp_increment(w);
   }
 
-  template <Weights W, int I>
-  static constexpr auto weight() {
-    if constexpr (W == Weights::b)
-      return Tableau.b[I];
-    else if constexpr (W == Weights::e)
-      return Tableau.e[I];
-    else
-      return Tableau.e3[I];
-  }
-
-  // Σ_i w_i (U_i, V_i) over the first N stages, zero weights skipped at compile time.
   template <Weights W, int N, std::size_t M>
   static Vec6 weighted_sum(const std::array<Vec6, M>& K) {
-    Vec6 s = Vec6::Zero();
-    [&]<int... I>(std::integer_sequence<int, I...>) {
-      ([&] {
-        if constexpr (weight<W, I>() != 0) s += Scalar(weight<W, I>()) * K[I];
-      }(), ...);
-    }(std::make_integer_sequence<int, N>{});
-    return s;
+    return tableaus::weighted_sum<Tableau, W, N>(K);
   }
 
   // The torque at Γ in the internal frame: the problem's, or Γ × Qᵀv in principal axes (Pr). (Not Γ × v in the
