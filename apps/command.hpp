@@ -14,8 +14,10 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <new>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 
 namespace lgi::app {
 
@@ -47,6 +49,21 @@ inline int fail(int status, const std::string& message) {
   line += '\n';
   std::fwrite(line.data(), 1, line.size(), stderr);
   return status;
+}
+
+// command(), with what escapes it as one line and a status: out of memory or a resource the system refused
+// exit_io_error, anything else exit_internal_error (a bug).
+template <class Command>
+int guarded(Command&& command) {
+  try {
+    return command();
+  } catch (const std::bad_alloc&) {
+    return fail(exit_io_error, "out of memory (the system refused an allocation); nothing was written");
+  } catch (const std::system_error& e) {  // a resource the system refused (threads, ...)
+    return fail(exit_io_error, std::string("the system refused a resource: ") + e.what());
+  } catch (const std::exception& e) {
+    return fail(exit_internal_error, std::string("internal error: ") + e.what());
+  }
 }
 
 }  // namespace lgi::app

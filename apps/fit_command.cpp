@@ -36,12 +36,10 @@
 #include "json_reader.hpp"
 #include "scene.hpp"
 
-#ifdef LGI_HAVE_FIT
 #include "fit_file.hpp"
 #include "fit_instances.hpp"
 
 #include <glog/logging.h>
-#endif
 
 #include <algorithm>
 #include <cctype>
@@ -61,13 +59,6 @@
 
 namespace lgi::app {
 
-#ifndef LGI_HAVE_FIT
-
-int fit_command(const FitCommandOptions& options) {
-  return fail(exit_bad_input, options.fit_file + ": this lgi was built without Ceres (LGI_BUILD_FIT=OFF): no fitting");
-}
-
-#else
 
 namespace {
 
@@ -305,7 +296,5 @@ int fit_command(const FitCommandOptions& options) {
                                        out->display_name() + ", \"usable\": false)");
   return 0;
 }
-
-#endif  // LGI_HAVE_FIT
 
 }  // namespace lgi::app

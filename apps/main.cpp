@@ -3,7 +3,8 @@
 //   lgi run SCENE [-o FILE] [-q] [--checkpoint CK [--checkpoint-every N|Ns]]
 //                                    integrate a scene; CSV to FILE (or stdout), a summary on stderr
 //   lgi run --resume CK [-o FILE] [-q]   continue a stopped run from its checkpoint, bit for bit
-//   lgi fit FITFILE [-o FILE] [-v]   fit initial conditions and parameters to observations (apps/fit_command.hpp)
+//   lgi fit FITFILE [-o FILE] [-v]   fit initial conditions and parameters to observations: runs lgi-fit from
+//                                    this executable's directory (apps/fit_main.cpp, apps/fit_command.hpp)
 //   lgi sweep SWEEPFILE -o FILE [--threads N] [--shard i/N] [--no-batch]   run a scene's members, one CSV row each
 //   lgi merge PART... -o FILE        the shards of a sweep into the serial run's file (apps/sweep_command.hpp)
 //   lgi list [--markdown]            problems and methods, with each method's order and structure
@@ -27,7 +28,6 @@
 #include "runner.hpp"
 #include "scene.hpp"
 #include "command.hpp"
-#include "fit_command.hpp"
 #include "sweep_command.hpp"
 
 #include <CLI/CLI.hpp>
@@ -462,6 +462,25 @@ int list_command(bool markdown) {
   return 0;
 }
 
+// `lgi fit ARGS...`: execs lgi-fit ARGS... from the directory of this executable (the build directory, or the
+// installation's bin/); returns only when that fails.
+int forward_fit(int argc, char** argv) {
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::filesystem::path program = self.parent_path() / "lgi-fit";
+  if (ec || ::access(program.c_str(), X_OK) != 0)
+    return fail(exit_bad_input, "lgi fit: this lgi has no fitting: " + program.string() +
+                                    " is not there (it is built with Ceres: cmake --build BUILD --target lgi_fit_exe)");
+  int i = 1;
+  while (i < argc && std::strcmp(argv[i], "fit") != 0) ++i;
+  std::vector<char*> args{const_cast<char*>(program.c_str())};
+  for (int j = i + 1; j < argc; ++j) args.push_back(argv[j]);
+  args.push_back(nullptr);
+  std::fflush(nullptr);
+  ::execv(program.c_str(), args.data());
+  return fail(exit_io_error, "lgi fit: cannot run " + program.string() + ": " + std::strerror(errno));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -484,11 +503,13 @@ int main(int argc, char** argv) {
                   "Continue the run checkpoint CK stopped, bit for bit (no SCENE; -o defaults to the run's FILE)");
 
   auto* fit = app.add_subcommand("fit", "Fit initial conditions and parameters to observations: result JSON to stdout (or -o FILE)");
-  lgi::app::FitCommandOptions fit_options;
-  fit->add_option("FITFILE", fit_options.fit_file, "Fit file: a scene plus a \"fit\" section (docs/fitting.md)")->required();
-  fit->add_option("-o,--output", fit_options.output, "Write the result JSON to FILE (atomically: no file on bad input)");
-  fit->add_flag("-v,--verbose", fit_options.verbose, "Ceres' full report and per-iteration progress on stderr");
-  fit->add_flag("-q,--quiet", fit_options.quiet, "Nothing on stderr but errors");
+  // Parsed here for help and errors; run by lgi-fit (forward_fit), which parses the same options.
+  std::string fit_file, fit_output;
+  bool fit_flag = false;
+  fit->add_option("FITFILE", fit_file, "Fit file: a scene plus a \"fit\" section (docs/fitting.md)")->required();
+  fit->add_option("-o,--output", fit_output, "Write the result JSON to FILE (atomically: no file on bad input)");
+  fit->add_flag("-v,--verbose", fit_flag, "Ceres' full report and per-iteration progress on stderr");
+  fit->add_flag("-q,--quiet", fit_flag, "Nothing on stderr but errors");
 
   auto* sweep = app.add_subcommand("sweep", "Run a sweep file's members (grid or seeded random): one CSV row each");
   lgi::app::SweepCommandOptions sweep_options;
@@ -540,14 +561,14 @@ int main(int argc, char** argv) {
     for (const auto* sub : app.get_subcommands()) where += " " + sub->get_name();
     return fail(exit_bad_input, where + ": " + e.what() + " (" + where + " --help)");
   }
+  if (fit->parsed()) return forward_fit(argc, argv);  // lgi-fit loads the plugins
   try {
     for (const std::string& plugin : plugins) lgi::app::load_plugin(plugin);
   } catch (const lgi::app::InputError& e) {
     return fail(exit_bad_input, e.what());
   }
-  try {
+  return lgi::app::guarded([&] {
     if (run->parsed()) return run_command(run_options);
-    if (fit->parsed()) return lgi::app::fit_command(fit_options);
     if (sweep->parsed()) {
       catch_interrupts();  // stop between members (and inside one) and remove the temporary output
       sweep_options.stop = &g_signal;
@@ -556,12 +577,6 @@ int main(int argc, char** argv) {
     }
     if (merge->parsed()) return lgi::app::merge_command(merge_options);
     if (list->parsed()) return list_command(markdown);
-  } catch (const std::bad_alloc&) {
-    return fail(exit_io_error, "out of memory (the system refused an allocation); nothing was written");
-  } catch (const std::system_error& e) {  // a resource the system refused (threads, ...)
-    return fail(exit_io_error, std::string("the system refused a resource: ") + e.what());
-  } catch (const std::exception& e) {
-    return fail(exit_internal_error, std::string("internal error: ") + e.what());
-  }
-  return 0;
+    return 0;
+  });
 }
