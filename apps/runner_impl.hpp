@@ -40,6 +40,17 @@ std::unique_ptr<Integrator> integrator_for(const P& problem, const Scene& scene,
   return engine;
 }
 
+// The scene's method on P (integrator_for). A problem type whose motion is another's, operation for operation, runs
+// the other's instantiation: P::as_heavy_top() (the Kovalevskaya top) makes the command integrate the heavy top — the
+// instantiation heavy_top.cpp defines and kovalevskaya_top.cpp declares extern — and take the rows from P.
+template <class P>
+std::unique_ptr<Integrator> integrator_of(const P& problem, const Scene& scene) {
+  if constexpr (requires { problem.as_heavy_top(); })
+    return integrator_of(problem.as_heavy_top(), scene);
+  else
+    return integrator_for(problem, scene, Methods{});
+}
+
 // The columns of a row (csv_header) of a problem on SO(3) at (t, x): t, R row by row, Ω, the energy, ‖RᵀR − I‖_F
 // and the problem's invariants.
 template <class P>
@@ -58,9 +69,7 @@ template <class P>
 class ProblemRunnerOf final : public ProblemRunner {
  public:
   explicit ProblemRunnerOf(const P& problem) : problem_(problem) {}
-  std::unique_ptr<Integrator> integrator(const Scene& scene) const override {
-    return integrator_for(problem_, scene, Methods{});
-  }
+  std::unique_ptr<Integrator> integrator(const Scene& scene) const override { return integrator_of(problem_, scene); }
   void columns(double t, const Integrator& engine, Slot s, std::vector<double>& out) const override {
     state_columns(t, engine.state(s), out);
   }

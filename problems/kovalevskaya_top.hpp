@@ -27,6 +27,7 @@
 
 #include "../core/invariants.hpp"
 #include "../core/problem.hpp"
+#include "heavy_top.hpp"
 
 #include <array>
 #include <string_view>
@@ -56,6 +57,10 @@ struct KovalevskayaTop {
   const Vec3<T>& reduced_axis() const { return k; }
   Vec3<T> reduced_torque(const Vec3<T>& Gamma) const { return b * Gamma.cross(z0); }
   Vec3<T> reduced_torque_lever() const { return b * z0; }  // reduced_torque(Γ) = Γ × (b z0)
+
+  // The same top as a HeavyTop: the same equations of motion, operation for operation (the integrators give the same
+  // bits for both).
+  HeavyTop<T> as_heavy_top() const { return {inertia, b, k, z0}; }
 
   // K = |(Ω1 + iΩ2)² − (b/I3)(z0_1 + i z0_2)(Γ1 + iΓ2)|².
   T kovalevskaya_integral(const State<T>& x) const {

@@ -20,4 +20,8 @@ HeavyTop<double> parse(const Node& p) {
 
 LGI_DEFINE_PROBLEM(heavy_top, HeavyTop<double>, "heavy top, seed paper eqs. (s4)-(s5): torque b (R^T k) x z0", ({"type", "inertia", "b", "k", "z0"}), parse)
 
+// The heavy top's integrators, for the problem types that move as one (runner_impl.hpp, integrator_of).
+template std::unique_ptr<Integrator> runner_detail::integrator_of<HeavyTop<double>>(const HeavyTop<double>&,
+                                                                                    const Scene&);
+
 }  // namespace lgi::app

@@ -1,5 +1,5 @@
-// lgi/apps/problems/kovalevskaya_top.cpp — the `kovalevskaya_top` problem type of scenes: its parser and its registration (every method
-// that applies to it is compiled here, problem_model.hpp).
+// lgi/apps/problems/kovalevskaya_top.cpp — the `kovalevskaya_top` problem type of scenes: its parser and its registration. Its
+// motion is a heavy top's: the methods are those compiled in heavy_top.cpp (runner_impl.hpp, integrator_of).
 #include "../problem_model.hpp"
 
 #include <lgi/problems/kovalevskaya_top.hpp>
@@ -8,6 +8,11 @@
 #include <string>
 
 namespace lgi::app {
+
+// Its motion is the heavy top's (KovalevskayaTop::as_heavy_top): those integrators, compiled in heavy_top.cpp.
+extern template std::unique_ptr<Integrator> runner_detail::integrator_of<HeavyTop<double>>(const HeavyTop<double>&,
+                                                                                           const Scene&);
+
 namespace {
 
 KovalevskayaTop<double> parse(const Node& p) {
