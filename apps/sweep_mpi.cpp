@@ -6,8 +6,10 @@
 // part file in its temporary directory; the ranks send their parts' bytes to rank 0 (point to point, in chunks of
 // at most 2^30 bytes), which checks and merges them as `lgi merge` does and writes OUT.csv atomically: the bytes
 // of the serial run. Needs no shared file system. Exit status: `lgi sweep`'s (command.hpp), from rank 0; a rank
-// whose members fail (bad sweep file, a member the loader refuses) makes every rank exit 1 and no OUT.csv is
-// written; only rank 0's message is shown when it has one, else the lowest failing rank's.
+// whose members fail (bad sweep file, a member the loader refuses) makes the run exit 1 and no OUT.csv is
+// written; only rank 0's message is shown when it has one, else the lowest failing rank's. That rank alone exits
+// with the failure, the others with 0: mpirun ends the job at the first non-zero exit, and output of another rank
+// still on its way to mpirun could be lost (the message, under load).
 #include "command.hpp"
 #include "sweep_command.hpp"
 
@@ -26,6 +28,8 @@
 #include <vector>
 
 namespace {
+
+int g_reporter = 0;  // the rank whose message a failure shows (run)
 
 namespace fs = std::filesystem;
 
@@ -101,7 +105,8 @@ int run(int rank, int size, int argc, char** argv) {
   MPI_Allgather(&status, 1, MPI_INT, statuses.data(), 1, MPI_INT, MPI_COMM_WORLD);
   const auto failed = std::find_if(statuses.begin(), statuses.end(), [](int s) { return s != 0; });
   if (failed != statuses.end()) {
-    if (failed - statuses.begin() == rank) std::fputs(said.c_str(), stderr);
+    g_reporter = static_cast<int>(failed - statuses.begin());
+    if (g_reporter == rank) std::fputs(said.c_str(), stderr);
     std::remove(part.c_str());
     std::remove(lgi::app::crossings_path(part).c_str());
     return *failed;
@@ -151,8 +156,8 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     status = lgi::app::fail(lgi::app::exit_internal_error, std::string("internal error: ") + e.what());
   }
-  // Every rank exits with rank 0's status (mpirun reports the first non-zero).
+  // The run's status is rank 0's; a failure is the reporting rank's exit status alone (header).
   MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
   MPI_Finalize();
-  return status;
+  return rank == g_reporter ? status : 0;
 }

@@ -29,6 +29,7 @@
 #include <limits>
 #include <span>
 #include <stdexcept>
+#include <string>
 #include <type_traits>
 
 namespace lgi {
@@ -59,6 +60,14 @@ struct NoObserver {
 };
 
 namespace detail {
+
+// std::invalid_argument naming `function` unless the output times increase strictly from t0 on.
+template <class T>
+void check_output_times(std::span<const T> times, const T& t0, const char* function) {
+  for (std::size_t i = 0; i < times.size(); ++i)
+    if (!(value_of(times[i]) >= value_of(t0)) || (i > 0 && !(value_of(times[i]) > value_of(times[i - 1]))))
+      throw std::invalid_argument(std::string(function) + ": output times must be increasing and >= t0");
+}
 
 struct GridPoint {
   std::int64_t m;  // largest grid index with t0 + m·h ≤ t (to rounding)
@@ -494,9 +503,7 @@ template <Stepper S, class Observer = NoObserver, class Monitor = NoMonitor>
 IntegrationSummary integrate_times(S& stepper, State<typename S::Scalar>& x, const typename S::Scalar& t0,
                                    const typename S::Scalar& h, std::span<const typename S::Scalar> times,
                                    Observer&& observe = {}, Monitor&& monitor = {}) {
-  for (std::size_t i = 0; i < times.size(); ++i)
-    if (!(value_of(times[i]) >= value_of(t0)) || (i > 0 && !(value_of(times[i]) > value_of(times[i - 1]))))
-      throw std::invalid_argument("lgi::integrate_times: output times must be increasing and >= t0");
+  detail::check_output_times(times, t0, "lgi::integrate_times");
   const GridEvents<typename S::Scalar> events(times, t0, h);
   return detail::drive_library(stepper, x, t0, h, events, observe, monitor);
 }

@@ -85,9 +85,7 @@ AdaptiveSummary integrate_adaptive(S& stepper, State<typename S::Scalar>& x, con
         "lgi::integrate_adaptive: the stepper's rtol must be >= 10 machine epsilons (2.2e-15) and atol > 0, both "
         "finite");
   if (!(value_of(h0) > 0)) throw std::invalid_argument("lgi::integrate_adaptive: initial step h0 must be positive");
-  for (std::size_t i = 0; i < times.size(); ++i)
-    if (!(value_of(times[i]) >= value_of(t0)) || (i > 0 && !(value_of(times[i]) > value_of(times[i - 1]))))
-      throw std::invalid_argument("lgi::integrate_adaptive: output times must be increasing and >= t0");
+  detail::check_output_times(times, t0, "lgi::integrate_adaptive");
 
   AdaptiveSummary summary;
   summary.t = static_cast<double>(value_of(t0));

@@ -211,9 +211,7 @@ EuclideanSummary integrate_times_euclidean(const Stepper& stepper, typename Step
                                            const typename Stepper::Scalar& t0, const typename Stepper::Scalar& h,
                                            std::span<const typename Stepper::Scalar> times, Observer&& observe = {},
                                            Monitor&& monitor = {}) {
-  for (std::size_t i = 0; i < times.size(); ++i)
-    if (!(value_of(times[i]) >= value_of(t0)) || (i > 0 && !(value_of(times[i]) > value_of(times[i - 1]))))
-      throw std::invalid_argument("lgi::integrate_times: output times must be increasing and >= t0");
+  detail::check_output_times(times, t0, "lgi::integrate_times_euclidean");
   const GridEvents<typename Stepper::Scalar> events(times, t0, h);
   return detail::drive_euclidean(stepper, y, t0, h, events, observe, monitor);
 }
