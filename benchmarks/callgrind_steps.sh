@@ -17,7 +17,9 @@ build=${1:?usage: callgrind_steps.sh BUILD_DIR [N1 N2]}
 n1=${2:-1000}
 n2=${3:-11000}
 exe=$build/benchmarks/lgi_step_count
-[[ -x $exe ]] || { echo "callgrind_steps.sh: $exe not found (build with LGI_BUILD_BENCHMARKS=ON)" >&2; exit 1; }
+# Not part of the default build (benchmarks/CMakeLists.txt): built here, up to date.
+cmake --build "$build" --target lgi_step_count -j"${JOBS:-2}" > /dev/null ||
+  { echo "callgrind_steps.sh: cannot build lgi_step_count in $build (configured with LGI_BUILD_BENCHMARKS=ON?)" >&2; exit 1; }
 command -v valgrind > /dev/null || { echo "callgrind_steps.sh: valgrind not found" >&2; exit 1; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
