@@ -26,7 +26,9 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", options.verbose, "Ceres' full report and per-iteration progress on stderr");
   app.add_flag("-q,--quiet", options.quiet, "Nothing on stderr but errors");
   std::vector<std::string> plugins;
-  app.add_option("--plugin", plugins, "Load the problem types of the lgi plugin FILE (repeatable)")->type_name("FILE");
+  app.add_option("--plugin", plugins, "Load the problem types of the lgi plugin FILE (repeatable)")
+      ->type_name("FILE")
+      ->allow_extra_args(false);  // one FILE per --plugin (repeat it): FITFILE after it is not a plugin
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -538,7 +538,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> plugins;
   for (auto* sub : {run, fit, sweep, list})
     sub->add_option("--plugin", plugins, "Load the problem types of the lgi plugin FILE (repeatable)")
-        ->type_name("FILE");
+        ->type_name("FILE")
+        ->allow_extra_args(false);  // one FILE per --plugin (repeat it): a scene after it is not a plugin
 
   try {
     app.parse(argc, argv);

@@ -75,6 +75,9 @@ endif()
 file(WRITE ${WORK_DIR}/tethered.json [[{"problem": {"type": "tethered_top", "inertia": [2, 2, 1], "kappa": 20},
   "initial": {"omega": [0.3, -0.2, 4]}, "integrator": {"method": "lgvi", "dt": 0.001}, "t_end": 1}]])
 run(${lgi} run --plugin ${plugin} -q ${WORK_DIR}/tethered.json -o ${WORK_DIR}/tethered.csv)
+# --plugin takes one FILE: the scene right after it is the scene (lgi fit likewise, through lgi-fit).
+run(${lgi} run --plugin ${plugin} ${WORK_DIR}/tethered.json -q -o ${WORK_DIR}/tethered2.csv)
+run(${lgi} list --plugin ${plugin} --plugin ${plugin})
 
 # Refusals: exit 1, one line, naming the file and the reason.
 function(refused file reason)
