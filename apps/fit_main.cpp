@@ -6,6 +6,7 @@
 //
 // Exit statuses and messages: those of `lgi fit` (apps/main.cpp).
 #include "command.hpp"
+#include "command_line.hpp"
 #include "fit_command.hpp"
 #include "plugin_loader.hpp"
 #include "scene.hpp"
@@ -21,14 +22,9 @@ int main(int argc, char** argv) {
                "lgi fit"};
   app.set_version_flag("--version", std::string("lgi ") + LGI_VERSION);
   FitCommandOptions options;
-  app.add_option("FITFILE", options.fit_file, "Fit file: a scene plus a \"fit\" section (docs/fitting.md)")->required();
-  app.add_option("-o,--output", options.output, "Write the result JSON to FILE (atomically: no file on bad input)");
-  app.add_flag("-v,--verbose", options.verbose, "Ceres' full report and per-iteration progress on stderr");
-  app.add_flag("-q,--quiet", options.quiet, "Nothing on stderr but errors");
+  add_fit_options(app, options);
   std::vector<std::string> plugins;
-  app.add_option("--plugin", plugins, "Load the problem types of the lgi plugin FILE (repeatable)")
-      ->type_name("FILE")
-      ->allow_extra_args(false);  // one FILE per --plugin (repeat it): FITFILE after it is not a plugin
+  add_plugin_option(app, plugins);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

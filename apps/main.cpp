@@ -28,6 +28,7 @@
 #include "runner.hpp"
 #include "scene.hpp"
 #include "command.hpp"
+#include "command_line.hpp"
 #include "sweep_command.hpp"
 
 #include <CLI/CLI.hpp>
@@ -503,13 +504,8 @@ int main(int argc, char** argv) {
                   "Continue the run checkpoint CK stopped, bit for bit (no SCENE; -o defaults to the run's FILE)");
 
   auto* fit = app.add_subcommand("fit", "Fit initial conditions and parameters to observations: result JSON to stdout (or -o FILE)");
-  // Parsed here for help and errors; run by lgi-fit (forward_fit), which parses the same options.
-  std::string fit_file, fit_output;
-  bool fit_flag = false;
-  fit->add_option("FITFILE", fit_file, "Fit file: a scene plus a \"fit\" section (docs/fitting.md)")->required();
-  fit->add_option("-o,--output", fit_output, "Write the result JSON to FILE (atomically: no file on bad input)");
-  fit->add_flag("-v,--verbose", fit_flag, "Ceres' full report and per-iteration progress on stderr");
-  fit->add_flag("-q,--quiet", fit_flag, "Nothing on stderr but errors");
+  lgi::app::FitCommandOptions fit_options;  // parsed here for help and errors; lgi-fit runs it (forward_fit)
+  lgi::app::add_fit_options(*fit, fit_options);
 
   auto* sweep = app.add_subcommand("sweep", "Run a sweep file's members (grid or seeded random): one CSV row each");
   lgi::app::SweepCommandOptions sweep_options;
@@ -537,9 +533,7 @@ int main(int argc, char** argv) {
   // Problem types from plugins (apps/plugin.hpp, docs/new_problem.md), for the commands that read scenes.
   std::vector<std::string> plugins;
   for (auto* sub : {run, fit, sweep, list})
-    sub->add_option("--plugin", plugins, "Load the problem types of the lgi plugin FILE (repeatable)")
-        ->type_name("FILE")
-        ->allow_extra_args(false);  // one FILE per --plugin (repeat it): a scene after it is not a plugin
+    lgi::app::add_plugin_option(*sub, plugins);
 
   try {
     app.parse(argc, argv);
