@@ -9,6 +9,7 @@
 #include <lgi/core/invariants.hpp>
 #include <lgi/integrators/adaptive.hpp>
 #include <lgi/integrators/projection.hpp>
+#include <lgi/problems/heavy_top.hpp>
 
 #include <cmath>
 #include <memory>
@@ -18,13 +19,25 @@
 namespace lgi::app {
 namespace runner_detail {
 
-// The scene's method on problem P: Method<P>, or Projected<Method<P>> with the projection switched by the scene where
-// the method takes one.
+// The methods a problem type compiles for itself: every method that applies to P, less, for a problem type whose
+// motion is a heavy top's (P::as_heavy_top(): the Kovalevskaya and the Lagrange top), those the heavy top takes —
+// they run the heavy top's instantiation (integrator_of). What remains is the methods only P takes (lagrange_split
+// and its compositions: axisymmetric problems only).
+template <template <class> class M, class P>
+inline constexpr bool own_method_v = [] {
+  if constexpr (requires(const P& p) { p.as_heavy_top(); })
+    return method_applies_v<M, P> && !method_applies_v<M, HeavyTop<double>>;
+  else
+    return method_applies_v<M, P>;
+}();
+
+// The scene's method on problem P among P's own methods (own_method_v): Method<P>, or Projected<Method<P>> with the
+// projection switched by the scene where the method takes one; null when the scene's method is none of them.
 template <class P, template <class> class... Ms>
 std::unique_ptr<Integrator> integrator_for(const P& problem, const Scene& scene, MethodList<Ms...>) {
   std::unique_ptr<Integrator> engine;
   const auto try_method = [&]<template <class> class M>() {
-    if constexpr (method_applies_v<M, P>) {
+    if constexpr (own_method_v<M, P>) {
       if (!engine && M<P>::traits.name == scene.method->traits.name) {
         if constexpr (ProjectableStepper<M<P>>)  // one instantiation, the projection switched by the scene
           engine = make_integrator<Projected<M<P>>>(problem, scene.options, scene.options.projection);
@@ -36,19 +49,20 @@ std::unique_ptr<Integrator> integrator_for(const P& problem, const Scene& scene,
     }
   };
   (try_method.template operator()<Ms>(), ...);
-  if (!engine) throw std::logic_error("lgi: method registry out of sync");
   return engine;
 }
 
-// The scene's method on P (integrator_for). A problem type whose motion is another's, operation for operation, runs
-// the other's instantiation: P::as_heavy_top() (the Kovalevskaya top) makes the command integrate the heavy top — the
-// instantiation heavy_top.cpp defines and kovalevskaya_top.cpp declares extern — and take the rows from P.
+// The scene's method on P. A problem type whose motion is a heavy top's, operation for operation (P::as_heavy_top():
+// the same equations with the same floating-point operations, up to the sign of zero terms), runs the heavy top's
+// instantiation — the one heavy_top.cpp defines and the other problems' files declare extern — for every method
+// the heavy top takes, and its own (integrator_for) for the rest; the rows are P's.
 template <class P>
 std::unique_ptr<Integrator> integrator_of(const P& problem, const Scene& scene) {
+  std::unique_ptr<Integrator> engine = integrator_for(problem, scene, Methods{});
   if constexpr (requires { problem.as_heavy_top(); })
-    return integrator_of(problem.as_heavy_top(), scene);
-  else
-    return integrator_for(problem, scene, Methods{});
+    if (!engine) return integrator_of(problem.as_heavy_top(), scene);
+  if (!engine) throw std::logic_error("lgi: method registry out of sync");
+  return engine;
 }
 
 // The columns of a row (csv_header) of a problem on SO(3) at (t, x): t, R row by row, Ω, the energy, ‖RᵀR − I‖_F

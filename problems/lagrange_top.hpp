@@ -26,6 +26,7 @@
 
 #include "../core/invariants.hpp"
 #include "../core/problem.hpp"
+#include "heavy_top.hpp"
 
 #include <array>
 #include <string_view>
@@ -55,6 +56,10 @@ struct LagrangeTop {
   const Vec3<T>& reduced_axis() const { return k; }
   Vec3<T> reduced_torque(const Vec3<T>& Gamma) const { return Vec3<T>(b * Gamma.y(), -(b * Gamma.x()), T(0)); }
   Vec3<T> reduced_torque_lever() const { return Vec3<T>(T(0), T(0), b); }  // reduced_torque(Γ) = Γ × (b e3)
+
+  // The same top as a HeavyTop (z0 = e3): its torque b Γ × e3 and potential b k·(R e3) are this one's, term for term,
+  // with exact zeros where this one writes 0 (the sign of a zero may differ).
+  HeavyTop<T> as_heavy_top() const { return {inertia, b, k, Vec3<T>::UnitZ()}; }
 
   static constexpr std::array<std::string_view, 2> invariant_names{"momentum_k", "momentum_psi"};
   std::array<T, 2> invariants(const State<T>& x) const {

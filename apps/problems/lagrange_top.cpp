@@ -1,5 +1,6 @@
-// lgi/apps/problems/lagrange_top.cpp — the `lagrange_top` problem type of scenes: its parser and its registration (every method
-// that applies to it is compiled here, problem_model.hpp).
+// lgi/apps/problems/lagrange_top.cpp — the `lagrange_top` problem type of scenes: its parser and its registration. Its
+// motion is a heavy top's: the methods the heavy top takes are those compiled in heavy_top.cpp, the splittings for
+// axisymmetric tops are compiled here (runner_impl.hpp, integrator_of).
 #include "../problem_model.hpp"
 
 #include <lgi/problems/lagrange_top.hpp>
@@ -8,6 +9,11 @@
 #include <string>
 
 namespace lgi::app {
+
+// Its motion is the heavy top's (LagrangeTop::as_heavy_top): those integrators, compiled in heavy_top.cpp.
+extern template std::unique_ptr<Integrator> runner_detail::integrator_of<HeavyTop<double>>(const HeavyTop<double>&,
+                                                                                           const Scene&);
+
 namespace {
 
 LagrangeTop<double> parse(const Node& p) {
