@@ -29,7 +29,7 @@
 //
 // Methods and problems: `lgi fit` offers the (method, problem) pairs instantiated in fit_instances.hpp —
 // lgvi and rkmk4 on free_body and heavy_top (Lagrange and Kovalevskaya tops are heavy_top scenes with their
-// data) — because each pair costs ~25 s of compile CPU. The library (lgi::fit) takes any of them.
+// data) — because each pair costs tens of seconds of compile CPU. The library (lgi::fit) takes any of them.
 #include "fit_command.hpp"
 
 #include "command.hpp"

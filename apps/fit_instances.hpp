@@ -4,11 +4,11 @@
 // (method, problem, Jet size N) that `lgi fit` offers or a test uses are instantiated in fit_instances_*.cpp
 // (one OBJECT library, lgi_fit_instances, linked into the command and every test_fit* executable) and
 // declared `extern template` here, so a TU that includes this header does not instantiate the integrators
-// in double and Jet<N> again. Each (method, problem) costs about 25 s of compile CPU (g++ 12, -O2), which
-// is why `lgi fit` offers the pairs of LGI_FIT_OBSERVATION_FITS rather than every method × problem. Model's in-class (inline)
-// members a test calls directly may still be instantiated there ([temp.explicit]: an explicit instantiation
-// declaration does not suppress inline functions; g++ 12 leaves the constructor out of line); its cost
-// functions — observation_cost and periodic_cost, defined out of class — and all they reach are not.
+// in double and Jet<N> again. Each (method, problem) costs tens of seconds of compile CPU (docs/performance.md),
+// which is why `lgi fit` offers the pairs of LGI_FIT_OBSERVATION_FITS rather than every method × problem. Model's
+// in-class (inline) members a test calls directly may still be instantiated there ([temp.explicit]: an explicit
+// instantiation declaration does not suppress inline functions; g++ 12 leaves the constructor out of line); its
+// cost functions — observation_cost and periodic_cost, defined out of class — and all they reach are not.
 //
 // A (method, problem, N) a test uses but these lists lack still compiles and links (implicit instantiation in
 // that TU); it only costs compile time. Add it to the lists below.

@@ -140,8 +140,8 @@ MemberResult run_member(const Sweep& s, std::int64_t m, const volatile std::sig_
 // integrate_batch_lgvi, whose results equal the single-body Lgvi's bit for bit (tests/integrators/test_batch.cpp); the rows
 // are built from them exactly as from the runner's report (tests/cli/test_cli_sweep.cpp compares the bytes with
 // --no-batch). Members longer than batch_max_steps run one by one, so that a signal still stops them within a
-// monitor call; a block (≤ batch_block_work body-steps, ≤ 0.3 s at 70 ns a body-step) runs to its end before a
-// signal is seen.
+// monitor call; a block (≤ batch_block_work body-steps, a fraction of a second at the batched kernels' speed:
+// docs/performance.md) runs to its end before a signal is seen.
 inline constexpr std::int64_t batch_max_steps = std::int64_t{1} << 20;
 inline constexpr std::int64_t batch_block_work = std::int64_t{1} << 22;
 

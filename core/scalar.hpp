@@ -21,8 +21,8 @@
 
 // On a step function: inline everything it calls. A step is a few hundred flops over 3-vectors spread
 // across small helpers; left to its heuristics GCC 12 sometimes keeps helpers out of line, and the
-// decision flips with unrelated code in the translation unit (RKMK4 measured 1233 or 1768 instructions a
-// step for the same source; 960 flattened).
+// decision flips with unrelated code in the translation unit, so the same source costs more, by an amount
+// that varies from build to build (docs/performance.md, "Where the instructions go").
 // Defined empty by the build of code that needs no speed (the tests: -DLGI_FLATTEN=), where flattening
 // every Jet instantiation costs compile time and buys nothing.
 #if !defined(LGI_FLATTEN)

@@ -5,8 +5,8 @@
 // orthogonal to round-off (‖RᵀR − I‖_F of a few ulps) when its input is. Integrators update an attitude
 // as R + R·(F − I), with the increment F − I formed without the 1 (rodrigues_increment, exp_increment):
 // the rounding of 1 − O(θ²) on F's diagonal repeats identically every step when θ is small and steady,
-// and would add up to a drift linear in the number of steps (2.7e-10 after 1e8 steps of h|Ω| = 5e-6);
-// without it the departure from SO(3) is a random walk of round-off, ≈ √n·ε after n steps.
+// and would add up to a drift linear in the number of steps (docs/findings.md); without it the departure
+// from SO(3) is a random walk of round-off, ≈ √n·ε after n steps.
 //
 // Conventions (right trivialisation: body velocities, updates R·Exp(u)):
 //   hat(ω) v = ω × v,                               vee(hat(ω)) = ω
@@ -78,7 +78,7 @@ struct Coefficients {
 
 namespace detail {
 // exp_coefficients for θ² ≥ 1e-2, out of line: the branch is rare in small steps, and inlined into a flattened
-// step it cost the common Taylor path ~30 instructions (benchmarks/exp_count rkmk4_small).
+// step it slows the common Taylor path (benchmarks/exp_count rkmk4_small measures it).
 template <class T>
 [[gnu::noinline]] Coefficients<T> exp_coefficients_trig(const T& theta2) {
   using std::sin;

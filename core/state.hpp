@@ -26,8 +26,8 @@ struct State {
 
 // The same point of T*SO(3) ≅ SO(3) × R³ in canonical coordinates: attitude R and body angular
 // momentum Π = JΩ. Symplectic methods step (R, Π) and convert to and from (R, Ω) only at the edges
-// of a run: a round trip Π → J⁻¹Π → J(J⁻¹Π) every step carries a rounding bias of ~1e-17 relative
-// per step in the momentum, a drift of 1e-9 over 1e8 steps, which stepping Π itself avoids.
+// of a run: a round trip Π → J⁻¹Π → J(J⁻¹Π) every step carries a rounding bias in the momentum, which
+// adds up to a linear drift (docs/findings.md); stepping Π itself avoids it.
 template <class T>
 struct MomentumState {
   Mat3<T> R = Mat3<T>::Identity();

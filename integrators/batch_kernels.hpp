@@ -7,10 +7,8 @@
 //   avx512     lane blocks of 16 (two zmm vectors), integrators/batch_avx512.cpp in lgi::batch, compiled with
 //              -mavx512f -mavx512dq -ffp-contract=off; needs LGI_HAVE_BATCH_AVX512 and an AVX-512F+DQ CPU and OS
 // Two machine vectors a block (U = 2 in batch_lanes.hpp's Pack) interleave two independent dependency chains:
-// measured on a Zen 5 core (bench_batch, N = 65536, 1 thread, CPU time, medians of 3, three alternating runs
-// each) 16–20 % faster than one vector a block for the LGVI (baseline 30.0 → 23.9 ms, avx2 15.2 → 12.1, avx512
-// 8.5 → 7.1) and 8–11 % for RKMK4 (39.3 → 34.9, 19.5 → 17.9, 10.7 → 9.8), although the wider blocks spill more
-// (callgrind, LGVI: baseline 362 → 426, avx2 140 → 167 instructions per body-step).
+// faster in CPU time than one vector a block for both methods with every kernel, although the wider blocks
+// spill more and take more instructions per body-step (bench_batch measures both: docs/performance.md).
 //   per_body   the single-body stepper per body (core/batch.hpp's integrate_batch)
 //   automatic  the widest of avx512, avx2, baseline that can run (per_body where the kernels do not apply)
 // No FMA contraction anywhere, so every kernel gives the baseline single-body bits.

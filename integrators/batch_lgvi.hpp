@@ -31,9 +31,8 @@
 // Per-body parameters: the heavy top's b (m g ℓ) may differ per body (the span `b`); J, k, z0, h and the
 // stepper options are shared.
 //
-// Measured (bench_batch, Hairer–Vilmart tops, h = 0.01, medians of 5, 2-vCPU AMD EPYC Zen 5 otherwise idle; ns
-// per body-step, N = 65536, 1 → 2 threads): per_body 70.1 → 34.3, baseline 22.8 → 11.4, avx2 11.0 → 5.7,
-// avx512 6.9 → 3.6 (N = 4096: 6.9 → 4.4). callgrind: per_body 718, baseline 426, avx2 167 instructions.
+// Speed per body-step of every kernel, on one and two threads, and instructions per body-step: bench_batch,
+// docs/performance.md ("Many bodies at once: batches").
 //
 // Limits: diagonal J only (the principal-axes frame, J = diag(I1, I2, I3)); any other J runs per_body. Double only.
 // Autonomous problems only (the heavy-top torque does not depend on t; t0 is passed to per_body alone).

@@ -24,7 +24,7 @@
 //
 // Vectorisation (integrators/batch_lanes.hpp): GCC vector extensions, a Pack of U machine vectors per block,
 // W = U·VW lanes (batch_kernels.hpp picks U = 2: W = 4 with SSE2, 8 with AVX2, 16 with AVX-512; faster than
-// U = 1 on Zen 5, measured there). Plain lane loops were tried first: GCC 12 left the Newton and update loops scalar
+// U = 1, see there). Plain lane loops were tried first: GCC 12 left the Newton and update loops scalar
 // ("control flow in loop"); generic vectors wider than the machine's were lowered to scalar code for ?: and
 // comparisons, hence masks are blended with bit operations and blocks are whole machine vectors.
 //

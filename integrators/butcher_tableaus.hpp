@@ -14,9 +14,8 @@
 //
 // The tableaus the methods use are doubles (tableaus::dop853, verner9 and the rest), also when a method runs in
 // long double: the order conditions then hold only to ~1e-16 (e.g. Σ b_i − 1 of DOP853 and of 1/6, 1/3, 1/3, 1/6
-// in double; 1.3e-16 for Verner 9(8)), which adds an error of ~1e-16 per unit time to a long-double run —
-// measured for DOP853 on the quaternion embedding: 3.3e-16 over T = 2 (skew heavy top), 1.1e-15 over T = 10
-// (free body) against a long-double reference (tests/order_measure.hpp).
+// in double; 1.3e-16 for Verner 9(8)), which adds an error of ~1e-16 per unit time to a long-double run, a floor
+// that the order fits of tests/order_measure.hpp stay above (docs/findings.md).
 // DOP853 and Verner 9(8) are also variable templates over the coefficient type C, dop853_in<C> and
 // verner9_in<C>, each literal written LGI_RK(…): C = double gives the compiler's double of each literal (the
 // double tableaus are dop853_in<double> and verner9_in<double>, the same bits as plain literals); another C gets
@@ -207,8 +206,9 @@ constexpr DecimalDigits scan_decimal(const char* s) {
 // A decimal literal's text parsed in C's arithmetic: the first 38 significant digits as two exact integers
 // (≤ 19 digits each), m = head·10^n + tail (head·10^n is exact in binary128: 64 + 45 bits), then m/10^k or m·10^k
 // — two roundings in binary128, so within one unit in the last place of the correctly rounded value (digits
-// past the 38th are below 10⁻³⁷ relative and dropped). Measured (tests/integrators/test_quad_order.cpp, DecimalParsersAgree):
-// 866 of Verner 9(8)'s 952 entries correctly rounded, the others one unit off.
+// past the 38th are below 10⁻³⁷ relative and dropped). tests/integrators/test_quad_order.cpp, DecimalParsersAgree,
+// checks that bound on every entry of Verner 9(8)'s tableau (how many come out correctly rounded:
+// docs/findings.md).
 template <class C>
 constexpr C parse_decimal(const char* s) {
   const DecimalDigits d = scan_decimal(s);
@@ -1252,13 +1252,12 @@ inline constexpr std::array<std::array<double, 8>, 21> vern8_dense = [] {
 // estimate behaves like h⁸: control_order 8. Checked by the order conditions (order 8 for b, 7 for b − e, 8 for
 // the dense weights at every θ tried) in tests/integrators/test_rkmk_family.cpp.
 // Not offered as an RKMK method (no alias, not in the registry): measured, it does not pay. On the heavy tops
-// (benchmarks/work_precision, HV and seed tops, one run, README) it reaches 1e-8 and 1e-10 0–9 % faster than
-// DOP853 in Cayley coordinates (24.3 / 38.9 against 26.0 / 42.9 µs on the HV top) and 2–18 % in the exponential
-// chart, 1.3× slower than Verner 9(8) in Cayley coordinates; and its large coefficients cost accuracy: a's up
-// to 123 (against DOP853's 43) put 1.2e-13 of round-off on a step's end (DOP853 9.5e-16; double against long
-// double, h = 0.1 … 0.3, skew top), the interpolant's coefficients up to 1.35e6 put 7.8e-11 on its dense output
-// (DOP853 3.6e-14), and with the double coefficients even long-double runs stall at 1e-14 (skew top, T = 2;
-// DOP853 3.4e-16), below which its order 8 would show: above it the errors fall like h⁹ … h¹⁰.
+// (benchmarks/work_precision) it is a little faster than DOP853 in either chart but slower than Verner 9(8) in
+// Cayley coordinates (docs/performance.md, "Design measurements behind the code"); and its large coefficients cost
+// accuracy: its a's (up to 123, against DOP853's 43) put more round-off on a step's end, the interpolant's
+// coefficients (up to 1.35e6) far more on its dense output, and with the double coefficients even long-double runs
+// stall above the errors at which its order 8 would show: above that floor the errors fall like h⁹ … h¹⁰
+// (docs/findings.md).
 inline constexpr EmbeddedTableau<13, 21> verner8{
     .name = "rkmk_vern8",
     .title = "Runge-Kutta-Munthe-Kaas, Verner's efficient 8(7) pair with order-8 dense output (adaptive with rtol/atol)",

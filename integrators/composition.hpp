@@ -235,8 +235,8 @@ class Composition {
   }
 
   // The base step inlined into the loop: a splitting's step() goes through a runtime-dispatched copy
-  // (core/scalar.hpp), a call per substep that made split_dmv_kahan_li8 on the free body 11 % slower (bench_steps,
-  // 746 → 821–835 ns); its step_inline() is the same step, compiled here.
+  // (core/scalar.hpp), a call per substep that slows the compositions (bench_steps; docs/performance.md, "Run-time
+  // dispatch for AVX2"); its step_inline() is the same step, compiled here.
   StepStatus base_step(Internal& z, const Scalar& tau, const Scalar& hi)
     requires Stepper<B>
   {
@@ -316,9 +316,9 @@ using SplitDmvSofroniouSpaletta10 = Composition<compositions::sofroniou_spaletta
 // Compositions of the Lagrange top's splitting around the exact symmetric free flow (lagrange_split.hpp;
 // scene names lagrange_split_<coefficients>; axisymmetric problems only). Every sub-step integrates the
 // spin about the symmetry axis exactly, so the step size is set by the slow motions (nutation, precession)
-// and not by the spin rate: on the fast Lagrange top (Ω3 = 150) an error of 1e-8 at T = 2 takes 23 µs with
-// Kahan–Li 8 against 320 µs for GSL's rk8pd and 307 µs for rkmk_dp8_cayley (benchmarks/work_precision, one
-// run, docs/benchmarks.md). Symplectic and symmetric; m_ψ kept bit for bit (no sub-step touches Π3).
+// and not by the spin rate: on the fast Lagrange top (Ω3 = 150) they are the fastest methods of lgi and its
+// peers, by an order of magnitude (benchmarks/work_precision; docs/performance.md, docs/benchmarks.md).
+// Symplectic and symmetric; m_ψ kept bit for bit (no sub-step touches Π3).
 template <RigidBodyProblem P>
 using LagrangeSplitYoshida4 = Composition<compositions::yoshida4, LagrangeSplit, P>;
 template <RigidBodyProblem P>

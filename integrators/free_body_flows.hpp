@@ -48,15 +48,10 @@
 //     (dmv_substeps), so it stays finite and bounded at any step (h|Ω| = 3: tests/integrators/test_dmv.cpp; there the
 //     substeps are what keep it finite — the plain fixed point converges at the substep size too, Newton
 //     only in fewer iterations).
-//     Cost on the Hairer–Vilmart heavy top (h = 0.01, benchmarks/callgrind_steps.sh, g++ 12 -O3 for
-//     plain x86-64): 397 instructions a kick + DMV step (455 before the torque lever of splitting.hpp, the
-//     vectorised quaternion update and the unrolled sweeps), of which ≈ 180 the solve (predictor 25, the
-//     sweep count 11, 3 sweeps of 18 flops at ≈ 24 instructions each — two-operand SSE2 code copies
-//     registers — and the tested sweep with its bound ≈ 70), 25 w = ½hΠ/I and |w|², ≈ 60 the
-//     quaternion update, 40 the rotation of Π, ≈ 30 the torque, ≈ 60 the kicks, the state's loads and
-//     stores and the finiteness test. The same code compiled with -mavx2 (three-operand encoding, no
-//     FMA contraction: the same results bit for bit) takes 315, with -mavx2 -mfma 269; the project builds
-//     for baseline x86-64. Fewer at the baseline would need fewer sweeps, which no cheap predictor gives
+//     Cost: docs/performance.md ("Where the instructions go") counts a kick + DMV step source line by
+//     source line (benchmarks/callgrind_steps.sh); the solve is the largest part. The project builds for
+//     baseline x86-64 (and a run-time dispatched AVX2 copy, splitting.hpp, with the same results bit for
+//     bit). Fewer instructions at the baseline would need fewer sweeps, which no cheap predictor gives
 //     (dmv_solve), or weaker guarantees.
 //
 // (c) PreprocessedDmv<r> — Hairer & Vilmart, J. Phys. A 39 (2006) 13225: DMV applied with modified
@@ -189,13 +184,13 @@ void renormalise(Quaternion<T>& q) {
 // = |q|² α exactly, so dividing by √(|q|² α) instead of √α also takes out the rounding of |q| left by earlier
 // steps: |q| − 1 stays at round-off instead of random-walking, with no separate renormalisation (the scalar
 // factor changes only |q|, never the rotation R(q)). Written as an increment, q + (g q + q ⊗ (0, s c)) with
-// s = 1/√(|q|² α) = 1 + g, so each component is rounded once: the shorter s·(q + δ) rounds twice and
-// measured 1.2–1.7× the rms m·k random walk (16 runs of 10⁶ steps, h = 1e-6 … 0.01, random attitudes).
+// s = 1/√(|q|² α) = 1 + g, so each component is rounded once: the shorter s·(q + δ) rounds twice and makes
+// the m·k random walk larger (docs/findings.md).
 // The four components are formed alike, lane by lane, (g q_i + ((s x) a_i + (s y) b_i + (s z) c_i)) with
 // (a, b, c) signed permutations of q, so that for double GCC's vector extensions can compute them two at a
 // time (SSE2 at the baseline, no FMA): the same operations in the same order, bit for bit the scalar
-// result (tests/integrators/test_dmv.cpp), 16 instructions a kick + DMV step fewer than the scalar code (HV top; 20
-// for the preprocessed DMV of order 4).
+// result (tests/integrators/test_dmv.cpp), in fewer instructions than the scalar code (docs/performance.md,
+// "Design measurements behind the code").
 namespace detail {
 template <class T>
 void multiply_increment_scalar(Quaternion<T>& q, const T& x, const T& y, const T& z, const T& a) {
@@ -252,10 +247,11 @@ void multiply_increment(Quaternion<T>& q, const T& x, const T& y, const T& z, co
 // (a) Axis rotations.
 
 // The default axis order (outer, middle, inner) for moments I: the smallest moment outermost, the
-// intermediate in the middle, the largest integrated with the full step innermost. Measured (see the
-// header and tests/integrators/test_splitting.cpp): never the worst of the six orders and within ≈ 3× of the best on
-// every body and momentum tried; on the flat body I ∝ (1, 0.75, 0.25) it is the order whose h² error term
-// vanishes (energy error 4e-10 against 2e-5 … 3e-4 for the others at h = 0.01: Fassò's fourth-order case).
+// intermediate in the middle, the largest integrated with the full step innermost. Checked against all six
+// orders (see the header; tests/integrators/test_splitting.cpp, AxisOrderChangesEnergyErrorByOrdersOfMagnitude):
+// the best order on two of its three bodies and within 3× of the best on the third; on the flat body
+// I ∝ (1, 0.75, 0.25) it is the order whose h² error term vanishes (energy error below 1e-4 × the worst order's:
+// Fassò's fourth-order case; the figures are in docs/validation.md).
 template <class T>
 std::array<int, 3> axis_order_for(const Vec3<T>& I) {
   std::array<int, 3> idx{0, 1, 2};
@@ -374,7 +370,8 @@ Vec3<T> dmv_newton_update(const Vec3<T>& c, const Vec3<T>& I, const Vec3<T>& d, 
 // Counters of the DMV solver (diagnostics).
 struct DmvCounters {
   // Fixed-point sweeps beyond DmvSweepTable's prediction (a first convergence test that failed). The
-  // predicted ones are not counted: a counter bumped every step cost ≈ 6 instructions a step (of ≈ 400).
+  // predicted ones are not counted: a counter bumped every step is a measurable part of a kick + DMV step
+  // (docs/performance.md, "Design measurements behind the code").
   std::int64_t extra_sweeps = 0;
   std::int64_t newton = 0;  // Newton updates
   std::int64_t fallbacks = 0;  // steps where the fixed point stalled and Newton took over
@@ -392,12 +389,10 @@ struct DmvCounters {
 //
 // sweeps(|w|²): after how many Gauss–Seidel sweeps the convergence test is first made, from a model of
 // the iteration: the predictor leaves an error ≈ A|w|³, each sweep multiplies it by ≈ B|w|, with
-// A = 0.1 r² + 0.005 and B = 0.1 r + 2|w|; the test passes when (4/3)·ρ·(update) ≤ target. Measured
-// over 2·10⁴ random momentum directions at |w| = 0.01 for six bodies (I = (0.6, 0.8, 1), (1, 2, 3),
-// (0.1, 1, 1.05), (1, 1, 1.9), (1, 1.1, 1.2), (2, 1, 2/3)): A/r² has medians 0.03–0.11, 90th percentiles
-// 0.17–0.25, maxima 0.21–0.39; the contraction per sweep B/r medians 0.03–0.13, 90th percentiles
-// 0.05–0.21, maxima 0.07–0.24. The model is the median case, not a bound: it only decides where the
-// test is first made; a prediction one short costs one more sweep and test, never accuracy.
+// A = 0.1 r² + 0.005 and B = 0.1 r + 2|w|; the test passes when (4/3)·ρ·(update) ≤ target. A and B follow the
+// median case of random momentum directions on six bodies (their distribution: docs/findings.md). The model is not
+// a bound: it only decides where the test is first made; a prediction one short costs one more sweep and test,
+// never accuracy.
 // quick_w2: below this |w|² = ¼h²|Π/I|² one substep certainly suffices (h|Π| ≤ 2 max I |w| ≤ min I), so
 // dmv_substeps need not be evaluated (1 % margin for rounding).
 template <class V>
@@ -464,13 +459,14 @@ struct DmvSweepTable {
 // Solves c_i = α w_i + r_i c_j c_k (w_i = ½h Π_i/I_i, r_i = (I_j − I_k)/I_i = −d_i/I_i) for c; see the header.
 // w and W2 = |w|² (its value part) come from the caller, which needs them for the substep decision.
 //
-// Iteration: the predictor is one Gauss–Seidel sweep from c = w (error ≈ 0.02 |w|³ on the HV body, 50×
-// smaller there than Hairer's explicit predictor c_i = w_i + r_i c_j c_k, which lacks the α|w|² w term,
-// for 4 more flops); then Gauss–Seidel sweeps, the first convergence test after table.sweeps(W2) (the
-// sweeps before it unrolled). Fewer sweeps need a better start than the predictor gives: on the HV top at
-// h = 0.01 the error after the predictor and 3 sweeps is up to 1.9e-16 > ε/4 (median 5e-17; an explicit
-// series through |w|³, or a sweep from c = w + r∘(w_j w_k), measured no better after two more sweeps), so
-// even a test that knew the error exactly would need the 4th sweep on part of the trajectory.
+// Iteration: the predictor is one Gauss–Seidel sweep from c = w (error O(|w|³), much smaller than that of
+// Hairer's explicit predictor c_i = w_i + r_i c_j c_k, which lacks the α|w|² w term, for 4 more flops:
+// docs/findings.md); then Gauss–Seidel sweeps, the first convergence test after table.sweeps(W2) (the sweeps
+// before it unrolled). Fewer sweeps need a better start than the predictor gives: on the HV top at h = 0.01 the
+// error after the predictor and 3 sweeps is above ε/4 on part of the trajectory, and the better predictors
+// tried (an explicit series through |w|³, a sweep from c = w + r∘(w_j w_k)) are no better after two more sweeps
+// (docs/performance.md, "Where the instructions go"), so even a test that knew the error exactly would need the
+// 4th sweep there.
 //
 // Accuracy: the solution is wanted to round-off, not to a tolerance. c enters the state as an increment
 // of the unit quaternion, so an error δc moves the state by ≈ 2|δc| (and Π by ≈ 2|Π||δc|): the sweeps stop
@@ -482,19 +478,17 @@ struct DmvSweepTable {
 // needs the update of the last sweep only (an estimate of ρ from two updates costs a second one). Newton
 // (below) takes over when an update is not 16× smaller than the one before (contraction worse than ¼ per
 // sweep), on NaN/overflow, after max_sweeps, and from the start where the bound cannot reach ¼
-// (|w|² > table.fixed_point_w2, |w| ≈ 0.1, h|Ω| ≈ 0.2). Stopping at a relative tolerance instead leaves a solution error that is not the
-// same for the step h and its reverse −h, and the step is then symmetric only to that error: measured
-// 4e-14 for step(h) ∘ step(−h) on the skew top at h = 0.1 with tolerance 1e-14, against 4e-16 now
-// (tests/integrators/test_splitting.cpp, StepThenReverseStepIsIdentity).
+// (|w|² > table.fixed_point_w2, |w| ≈ 0.1, h|Ω| ≈ 0.2). Stopping at a relative tolerance instead leaves a
+// solution error that is not the same for the step h and its reverse −h, and the step is then symmetric only
+// to that error (docs/findings.md); converged to round-off, step(h) ∘ step(−h) returns to the start within
+// 2e-15 at h = 0.1 on the skew top (tests/integrators/test_splitting.cpp, StepThenReverseStepIsIdentity).
 //
 // alpha (for dmv_apply): α = 1 + |c|². Where the fixed point converged it is the α the test sweep started
-// from, not recomputed from the sweep's result (5 flops; measured 5–11 instructions a step): the two differ
-// by 2c·Δ + |Δ|² (Δ the last update, ≈ 1e-16 at h|Ω| = 0.03), which changes the rounded α in ≈ 0.5 % of
-// the steps of the HV top, by one ulp. |q| is then off by half an ulp, corrected the next step (q is
-// renormalised from its current norm); Π's rotation is orthogonal to ≈ 2|c| ulp(1) instead of to rounding
-// in those steps. The m·k random walk measured the same with and without (rms of
-// m·k − m·k(0) over 32 random attitudes × 10⁶ steps: 2.4e-14 and 2.6e-14·|m| at h = 0.01, 2.9e-14 both
-// at 1e-4; max over 8 starts × 10⁷ steps 5.6e-13 and 5.9e-13·|m·k|). Newton's result gets its own α.
+// from, not recomputed from the sweep's result (5 flops saved every step: docs/performance.md): the two differ
+// by 2c·Δ + |Δ|² (Δ the last update, ≈ 1e-16 at h|Ω| = 0.03), which changes the rounded α, by one ulp, in a
+// small fraction of the steps. |q| is then off by half an ulp, corrected the next step (q is renormalised from
+// its current norm); Π's rotation is orthogonal to ≈ 2|c| ulp(1) instead of to rounding in those steps. The
+// m·k random walk is the same with and without (docs/findings.md). Newton's result gets its own α.
 template <class T>
 StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& w, value_type_t<T> W2, const Vec3<T>& I,
                      const Vec3<T>& r, const Vec3<T>& d, const DmvSweepTable<value_type_t<T>>& table,
@@ -515,8 +509,8 @@ StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& w, value_type
       c1 = a * w1 + r1 * c0 * c2;
       c2 = a * w2 + r2 * c0 * c1;
     };
-    // The sweeps before the first test, unrolled (a loop with a counter measured 11–15 instructions a step
-    // more for kick + DMV and its preprocessed variants).
+    // The sweeps before the first test, unrolled (a loop with a counter costs kick + DMV and its preprocessed
+    // variants instructions every step: docs/performance.md, "Design measurements behind the code").
     k = table.sweeps(W2) - 1;
     if (k > 3) [[unlikely]]
       for (int i = 3; i < k; ++i) sweep();

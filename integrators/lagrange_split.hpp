@@ -22,33 +22,33 @@
 // Carried in the frame that turns with the spin. Since Π3 is constant, the spin angle ψ of the symmetric
 // free flow grows by the same φ every step; any rotation by φ rounded to doubles has the same small defect
 // every step — (cos φ)² + (sin φ)² − 1 ≈ 4εφ², and an angle error, both fixed — and applied to R (a 3×3
-// product, the form this file had until 2026-11-24) it drifted ‖RᵀR − I‖ and m·k linearly: 1.7e-11 after 10⁶
-// steps, 6.7e-11 after 4·10⁶ at h = 0.3 on the tilted test top. So the state is (q̃, Π̃, ψ) with
+// product) it makes ‖RᵀR − I‖ and m·k drift linearly (docs/findings.md). So the state is (q̃, Π̃, ψ) with
 //   R = R(q̃) exp(ψ ê3),   Π = exp(−ψ ê3) Π̃:
 // in these variables the drift is R(q̃) ← R(q̃) exp(hΠ̃/I1) with Π̃ unchanged and ψ ← ψ + φ (a scalar sum,
 // kept in [−π, π) with 2π split in two doubles), and the kicks are Π̃ += ½h M(R(q̃)ᵀk) — the torque of an
 // axisymmetric top commutes with turns about e3, M(R exp(α ê3)) = exp(−α ê3) M(R) (its potential does not see
 // them: that is what M3 ≡ 0 means; the constructor checks it). No fixed rotation is applied to anything:
-// the rotation exp(hΠ̃/I1) changes with the kicks, q̃ is a unit quaternion renormalised by one Newton step
-// each step, and ψ enters only at the output, R = R(q̃) exp(ψ ê3). Measured (tests/problems/test_problem_library.cpp,
-// LagrangeSplit.LongRunAtLargeSteps): ‖RᵀR − I‖ and m·k at round-off over 4·10⁶ steps at h = 0.3, growing
-// no faster than a random walk. M is kept for the next step's first kick: one torque per step; Γ̃ = R(q̃)ᵀk is
-// read off q̃ without forming a matrix. Explicit, no solve, no step-size restriction from the spin rate.
+// the rotation exp(hΠ̃/I1) changes with the kicks, q̃ is a unit quaternion renormalised by one Newton step each
+// step, and ψ enters only at the output, R = R(q̃) exp(ψ ê3). Checked by tests/problems/test_problem_library.cpp,
+// LagrangeSplit.LongRunAtLargeSteps: ‖RᵀR − I‖ and m·k stay below 1e-12 over 4·10⁶ steps at h = 0.3, growing no
+// faster than a random walk (growth exponent < 0.75). M is kept for the next step's first kick: one torque per
+// step; Γ̃ = R(q̃)ᵀk is read off q̃ without forming a matrix. Explicit, no solve, no step-size restriction from the
+// spin rate.
 //
-// Order 2 (Strang splitting φ^[V]_{h/2} ∘ φ^[T]_h ∘ φ^[V]_{h/2}: Strang, SIAM J. Numer. Anal. 5 (1968)
-// 506; Hairer, Lubich & Wanner, Geometric Numerical Integration, 2nd ed., §II.5, eq. (II.5.3), which they
-// call the Strang splitting (Strang 1968) and show to be symmetric and of order 2 — checked against the
-// book's text; the order is also measured, 2.000). Symplectic and symmetric (composition of exact
+// Order 2 (Strang splitting φ^[V]_{h/2} ∘ φ^[T]_h ∘ φ^[V]_{h/2}: Strang, SIAM J. Numer. Anal. 5 (1968) 506; Hairer,
+// Lubich & Wanner, Geometric Numerical Integration, 2nd ed., §II.5, eq. (II.5.3), which they call the Strang
+// splitting (Strang 1968) and show to be symmetric and of order 2 — checked against the book's text; the observed
+// order is 2 ± 0.2 in tests/problems/test_problem_library.cpp). Symplectic and symmetric (composition of exact
 // Hamiltonian flows, symmetric arrangement; HLW Example II.5.1 makes the same argument for Störmer–Verlet).
-// Preserves exactly: R on SO(3) to round-off (products of rotations); m_ψ = Π3 = I3 Ω3 bit for bit in the stepped state
-// (no operation touches Π3; m_ψ is a linear invariant, Ω3' ≡ 0, so RKMK4 and the LGVI keep it to round-off as well —
-// measured: unchanged); m·k to round-off (the kick adds a vector ⊥ Γ = Rᵀk, the drift preserves m = RΠ); energy bounded
-// (no drift). Exact (to round-off) when b = 0: it is then the free symmetric body's flow, so it
-// integrates the fast spin of a gyroscope exactly and only the gravity kicks carry the O(h²) error —
-// the regime of the fast Lagrange top (Brüls, Cardona, Arnold 2012; shared/NUMERICS.md: "integrate the
-// spin about the symmetry axis exactly"). Using the exact symmetric free flow inside splittings:
-// Celledoni, Fassò, Säfström, Zanna, SIAM J. Sci. Comput. 30 (2008) 2084, §1 (no equation number there
-// for this flow; the formulas above are derived in this header and verified by the tests).
+// Preserves exactly: R on SO(3) to round-off (products of rotations); m_ψ = Π3 = I3 Ω3 bit for bit in the stepped
+// state (no operation touches Π3; m_ψ is a linear invariant, Ω3' ≡ 0, so RKMK4 and the LGVI keep it to round-off as
+// well: tests/problems/test_problem_library.cpp); m·k to round-off (the kick adds a vector ⊥ Γ = Rᵀk, the drift
+// preserves m = RΠ); energy bounded (no drift). Exact (to round-off) when b = 0: it is then the free symmetric
+// body's flow, so it integrates the fast spin of a gyroscope exactly and only the gravity kicks carry the O(h²)
+// error — the regime of the fast Lagrange top (Brüls, Cardona, Arnold 2012; shared/NUMERICS.md: "integrate the spin
+// about the symmetry axis exactly"). Using the exact symmetric free flow inside splittings: Celledoni, Fassò,
+// Säfström, Zanna, SIAM J. Sci. Comput. 30 (2008) 2084, §1 (no equation number there for this flow; the formulas
+// above are derived in this header and verified by the tests).
 //
 // Applies to problems that declare `static constexpr bool axisymmetric = true` (LagrangeTop): their
 // inertia is diag(I1, I1, I3) — checked by the constructor, which throws std::invalid_argument

@@ -32,11 +32,10 @@
 // bounded) and are not accepted either.
 //
 // Cost: one Γ = Rᵀa (or none), one V(R), the gradients, and ≈ 40 flops per Newton update (usually one
-// update and two residuals) — ≈ 150 flops, not the "few dozen" first estimated. Measured with callgrind (g++ 12
-// -O3, h = 0.01, JΩ0 = (1.8, 0.4, −0.9)): RKMK4 972 → 1416 instructions/step on the Hairer–Vilmart heavy top
-// (+46 %), 585 → 962 on the free body; DP5 1477 → 1962 (heavy top), 915 → 1156 (free body).
-// Effect (tests/integrators/test_projection.cpp): energy and m·k (free body: E and |JΩ|) to ≤ 2e-15 over 10⁶ steps where
-// the unprojected runs drift to 1e-7; the state error at T = 10 changes by a factor 0.13 … 1.7.
+// update and two residuals) — ≈ 150 flops; instructions per step with and without it: docs/performance.md.
+// Effect (tests/integrators/test_projection.cpp): energy and m·k (free body: E and |JΩ|) within 1e-13 over 10⁶
+// steps where the unprojected runs drift; the state error at T = 10 at most twice the unprojected one (the
+// measured figures: docs/validation.md).
 // Order: that of the underlying method (the projection moves the state by O(local error)). R on SO(3): as
 // the underlying method.
 // Adaptive: an AdaptiveStepper stays one; its error estimate is the unprojected step's, the accepted state
@@ -142,7 +141,7 @@ class InvariantProjection {
       }
       // Converged when the residuals are at the round-off of evaluating them (Newton converges quadratically:
       // from an O(local error) start the second residual is already there). Checking the residual instead of
-      // the size of a further update saves that update (measured: −110 instructions a step, RKMK4 HV top).
+      // the size of a further update saves that update (docs/performance.md, "Design measurements behind the code").
       if (std::abs(static_cast<double>(value_of(r1))) <= 8 * eps * 0.5 * abs_dot(W, PiW) &&
           std::abs(static_cast<double>(value_of(r2))) <= 8 * eps * round2) {
         if (extra == 0) break;

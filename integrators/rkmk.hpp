@@ -18,11 +18,11 @@
 // the argument below; HLW credit Algorithm IV.8.3 to Munthe-Kaas (1999), Appl. Numer. Math. 29 (1999) 115,
 // whose own theorem numbers were not checked): along the exact flow u = tΩ + O(t²), so ad_u^k Ω = O(t^(k+1))
 // and the dropped terms change a step by O(h^(p+1)). It makes the stage map a polynomial. Since B_k = 0 for
-// odd k ≥ 3, K = p − 2 is lowered to the last non-zero term (DP5: K = 2; Verner 9(8): K = 7 → 6, the same
-// terms as DOP853's K = 6). Measured (tests/integrators/test_rkmk_family.cpp, RkmkSeriesTruncation): one non-zero term
-// short, the order falls to the dropped power + 1 — RKMK3 with K = 0: 2.000; RKMK4 with K = 1: 3.003; DP5 with
-// K = 1: 3.001; DOP853 with K = 4: 7.06; Verner 9(8) with K = 4: 7.01 (and 9 with K = 6: the ad⁸ term, B₈ ≠ 0,
-// is not needed).
+// odd k ≥ 3, K = p − 2 is lowered to the last non-zero term (DP5: K = 2; Verner 9(8): K = 7 (lowered to 6), the
+// same terms as DOP853's K = 6). One non-zero term short, the order falls to the dropped power + 1
+// (tests/integrators/test_rkmk_family.cpp, RkmkSeriesTruncation, each within 0.2: RKMK3 with K = 0 order 2; RKMK4
+// and DP5 with K = 1 order 3; DOP853 and Verner 9(8) with K = 4 order 7), and Verner 9(8) keeps its order 9 with
+// K = 6 (the ad⁸ term, B₈ ≠ 0, is not needed).
 // Zero tableau entries are skipped at compile time, and so are trailing stages with b_i = 0 in fixed steps
 // (Dormand–Prince's 7th stage); for a torque-free problem no stage attitude is formed at all, and for a
 // torque that depends on R only through Γ = Rᵀa (ReducedAttitudeProblem: the heavy top) the stages
@@ -56,29 +56,25 @@
 // in u — Γ_i = cay(u_i)ᵀ Γ_n = Γ_n − A u_i × Γ_n + ½A ((u_i·Γ_n) u_i − |u_i|² Γ_n), A = 4/(4 + |u_i|²) — and so
 // is the update R_{n+1} = R_n cay(h Σ b_i U_i): no sin, cos or square root anywhere in the step, where the
 // exponential chart calls libm's sin at every stage with a torque once θ² = |u_i|² ≥ 1e-2. The price is in
-// the error constants: at equal fixed steps DOP853 in Cayley coordinates is 7× less accurate than in the
-// exponential chart on the Hairer–Vilmart heavy top and up to 100× on the free body (T = 10, h = 0.1 … 0.5;
-// the DOP853 quaternion-embedding baseline is as accurate as the exponential chart there), so the adaptive
-// Cayley pair takes ≈ 20 % more steps for an error; it is cheaper per step (callgrind, HV heavy top,
-// h = 0.01: rkmk_dp8 4308 → rkmk_dp8_cayley 2838 instructions, rkmk4 977 → 887; remeasured with Verner's
-// pair below — 4632 → 3016 and 962 → 878 when first measured). Dense output and error estimates are those
-// above with cay in place of exp.
+// the error constants: at equal fixed steps DOP853 in Cayley coordinates is less accurate than in the
+// exponential chart, by much more on the free body than on the heavy top (docs/findings.md), so the adaptive
+// Cayley pair takes more steps for an error; it is cheaper per step (instructions per step of both charts:
+// docs/performance.md, "Cost per step"). Dense output and error estimates are those above with cay in place of
+// exp.
 //
 // Verner's most efficient 9(8) pair (rkmk_vern9, rkmk_vern9_cayley; tableaus::verner9): 16 stages a step against
 // DOP853's 12, for a solution of order 9 and an estimate of order 8 whose error constants are small; in Cayley
-// coordinates it needs fewer steps than DOP853 in either chart for the same error (README, work-precision), at
-// about DOP853's cost per stage (callgrind, HV heavy top, h = 0.01, fixed steps, which form 15 of its 16
-// stages: rkmk_vern9 5001, rkmk_vern9_cayley 3611 instructions; DOP853 4308, 2838 for 12 stages).
-// Measured (tests/integrators/test_rkmk_family.cpp, test_adaptive.cpp): orders 8.84 (skew top) and 8.98 (free body) in the
-// exponential chart; in Cayley coordinates its errors fall faster than h⁹ everywhere above the double round-off
-// floor (9.5 on the skew top, 10.0 on the free body: large h¹⁰ terms), and with order 9 below it
-// (tests/integrators/test_quad_order.cpp, coefficients tableaus::verner9_in<C> parsed to the run's precision): 9.002 in
-// binary128 on the skew top (errors 7.8e-21 … 1.5e-29), 9.096 in 50 digits on the GNI free body (3.7e-27 …
-// 7.2e-37; binary128 stops at 9.53 there); DOP853 in Cayley coordinates 8.002 on the GNI body in binary128. Round-off of one step, double against long
-// double, h = 0.1 … 0.3: 2.1e-16 at the step's end (DOP853 9.5e-16) but 8.5e-13 in the dense output (DOP853
-// 3.6e-14): its interpolant's weights are degree-9 polynomials with coefficients up to 1.07e4, whose Horner
-// sums carry ≈ 1e-12 absolute round-off — output times read between steps are that far off, whatever the
-// tolerance (and 5.3e-14 h in long double, from the coefficients' own rounding to double).
+// coordinates it needs fewer steps than DOP853 in either chart for the same error (docs/performance.md,
+// work-precision), at about DOP853's cost per stage (docs/performance.md, "Cost per step"). Orders (each within
+// 0.2; tests/integrators/test_rkmk_family.cpp, test_adaptive.cpp): 9 in the exponential chart on the skew top and
+// the free body; in Cayley coordinates its errors fall faster than h⁹ everywhere above the double round-off floor
+// (large h¹⁰ terms), and with order 9 below it (tests/integrators/test_quad_order.cpp, coefficients
+// tableaus::verner9_in<C> parsed to the run's precision: binary128 on the skew top, 50 digits on the GNI free
+// body; DOP853 in Cayley coordinates order 8 on the GNI body in binary128); the observed figures are in
+// docs/validation.md. Round-off: its interpolant's weights are degree-9 polynomials with coefficients up to
+// 1.07e4, whose Horner sums carry ≈ 1e-12 absolute round-off, far more than a step's end (docs/findings.md) —
+// output times read between steps are that far off, whatever the tolerance (and 5.3e-14 h in long double, from
+// the coefficients' own rounding to double).
 //
 // Scalars and coefficients: any scalar of core/scalar.hpp (double, long double, ceres::Jet, a real class type
 // such as boost::multiprecision::float128), and a tableau with any coefficient type the scalar can be made from
@@ -297,8 +293,8 @@ class Rkmk {
 
  private:
   // The step, trial step and dense output, with the torque Γ × Qᵀv in principal axes (Pr) or the problem's.
-  // Two copies rather than a test at every stage: the test cost the body-frame step 1–5 % (callgrind, HV top:
-  // rkmk4 954 → 1005, rkmk_dp8_cayley 2838 → 2982 instructions).
+  // Two copies rather than a test at every stage: the test slows the body-frame step (docs/performance.md,
+  // "Design measurements behind the code").
   [[gnu::noinline]] LGI_FLATTEN StepStatus step_principal(Internal& x, const Scalar& t, const Scalar& h) {
     return step_in<true>(x, t, h);
   }

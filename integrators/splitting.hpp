@@ -9,8 +9,7 @@
 //                                                 or an exact flow
 //   Π_{n+1} = Π⁻ + ½ h M_p(t_n + h, R_{n+1})     kick
 // (computed as Π_n + ((½h M_n + (Π⁻ − Π⁺)) + ½h M_{n+1}), so that Π is rounded once per step, not three
-// times: the largest m·k error of 10⁷ HV-top steps fell from 6.5e-13 to 4.8e-13 rms over 8 perturbed
-// starts for kick + DMV, 6.7e-13 to 4.3e-13 for the order-4 preprocessed DMV)
+// times, which makes the m·k error of long runs smaller: docs/findings.md)
 //
 // (Strang, SIAM J. Numer. Anal. 5 (1968) 506; for rigid bodies Touma & Wisdom, Astron. J. 107 (1994)
 // 1189, Dullweber, Leimkuhler & McLachlan, J. Chem. Phys. 107 (1997) 5840; HLW GNI §VII.5.) The torque at
@@ -103,9 +102,9 @@ struct FlowTraits<PreprocessedDmv<T, R>> {
 
 #if defined(LGI_DISPATCH_CLONES)
 namespace detail {
-// The splitting step in double, compiled for the baseline and for AVX2 (core/scalar.hpp). Callgrind, HV heavy
-// top, h = 0.01 (benchmarks/callgrind_steps.sh): kick + DMV 397 instructions a step inlined into the loop, 333
-// through the AVX2 copy (call included), final states equal to the last bit.
+// The splitting step in double, compiled for the baseline and for AVX2 (core/scalar.hpp), with final states
+// equal to the last bit (tests/core/test_dispatch.cpp); the instructions per step of both copies:
+// docs/performance.md, "Run-time dispatch for AVX2" (benchmarks/callgrind_steps.sh).
 template <class S>
 [[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_splitting_step(S& s, typename S::Internal& y,
                                                                                            double t, double h) {
@@ -234,8 +233,8 @@ class Splitting {
  private:
   static constexpr bool reduced = P::has_torque && ReducedAttitudeProblem<P>;
   // A reduced torque that is a cross product M = Γ × v with a constant v (core/problem.hpp): the torque is
-  // then Γ_p × Qᵀv, one cross product with a vector rotated to principal axes once (measured 21
-  // instructions a kick + DMV step fewer than through reduced_torque on the HV top, 65 with a non-diagonal J).
+  // then Γ_p × Qᵀv, one cross product with a vector rotated to principal axes once (fewer instructions a step
+  // than through reduced_torque, more so with a non-diagonal J: docs/performance.md).
   static constexpr bool has_lever = LeverTorqueProblem<P>;
 
   // Principal-axis torque at the attitude q.

@@ -16,9 +16,8 @@
 //   state y = (φ, θ, ψ, φ', θ', m_ψ, Φ, Ψ): ψ' = m_ψ/I3 − φ' c by (s6.1) and m_ψ' = 0, so that any
 //   Runge–Kutta method keeps m_ψ exactly (it is a component with zero derivative). Φ and Ψ hold the
 //   whole turns taken out of φ and ψ (multiples of 2π, zero derivative): `normalize` keeps φ, ψ in
-//   [−π, π] after every step, because a growing angle rounds at its own ulp every step (ψ reaches 83 in
-//   20 time units of docs/seed_paper.md's scenario B, and the error floor of RK4 rose from 2e-13 to
-//   1.6e-12, measured); the continuous angles are φ + Φ and ψ + Ψ.
+//   [−π, π] after every step, because a growing angle rounds at its own ulp every step and raises the
+//   error floor of a long run (docs/seed_paper.md, section 1); the continuous angles are φ + Φ and ψ + Ψ.
 //   body angular velocity of (6.3): Ω = φ'(s sinψ, s cosψ, c) + θ'(cosψ, −sinψ, 0) + ψ'(0, 0, 1).
 //
 //   momenta (s8):     p_θ = I2 θ',   p_φ = I2 φ' s² + m_ψ c

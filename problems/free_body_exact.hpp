@@ -57,30 +57,29 @@
 //   ellint_3/ellint_1 in the tests.
 // - sn, cn, dn by the descending Landen transformation (DLMF §22.7(i), A&S 16.12) from κ and κ' = √m_c,
 //   rational on the way up (detail::jacobi). Not Boost's jacobi_elliptic, measured in the tests: it takes κ
-//   and rebuilds κ' by cancellation (sn, cn off by 3.6e-12 at m_c = 1e-16, long double), its AGM takes asin
-//   of arguments → 1 where sn → ±1, and Boost 1.74 returns dn = 1 instead of κ' at u = K (0/0 in its
-//   cos ϕ₀/cos(ϕ₁ − ϕ₀)).
+//   and rebuilds κ' by cancellation (sn, cn lose accuracy near the separatrix: docs/free_body_exact.md), its
+//   AGM takes asin of arguments → 1 where sn → ±1, and Boost 1.74 returns dn = 1 instead of κ' at u = K (0/0
+//   in its cos ϕ₀/cos(ϕ₁ − ϕ₀)).
 // - Near the separatrix Δ2 cancels: it is summed in twice W's precision (error-free transformations), from
 //   Ω when J is diagonal and the input is (R, Ω) (Ω_p is then exact), so m_c keeps W's relative accuracy
-//   however small it is. Measured: with J diagonal the solution stays at 1e-16 of a 113-bit integration
-//   over t ≤ 100 down to Δ2/G² = 1e-14 (closer, double data cannot resolve). With J non-diagonal the
+//   however small it is: with J diagonal the solution stays at round-off of a 113-bit integration over
+//   t ≤ 100 down to Δ2/G² = 1e-14 (closer, double data cannot resolve). With J non-diagonal the
 //   eigensolver's rounding (in long double) perturbs Δ2 by ≈ 1e-19 G², so the error grows like
-//   1e-19/(Δ2/G²) per period: 1.4e-13 at Δ2/G² = 1e-6, 1.2e-11 at −1e-8 — so with a non-diagonal J the
-//   1e-12 accuracy holds only down to |Δ2|/G² ≈ 1e-7 (tests: SeparatrixAgainst113BitIntegration, the
-//   δ = ±1e-12, −1e-14 and non-diagonal −1e-8 cases in every run; more with LGI_SLOW_TESTS=1).
+//   1e-19/(Δ2/G²) per period, and the 1e-12 accuracy holds only down to |Δ2|/G² ≈ 1e-7 (tests:
+//   SeparatrixAgainst113BitIntegration, the δ = ±1e-12, −1e-14 and non-diagonal −1e-8 cases in every run;
+//   more with LGI_SLOW_TESTS=1; the figures: docs/free_body_exact.md).
 // - u is reduced to r ∈ [−K, K] (u = 2jK + r; sn, cn change sign with j, dn does not) for long times.
 // - Round-off in t (Vilmart, J. Comput. Phys. 227 (2008)): the phases λt and φ(t) are linear in t, so the
 //   relative error of the constants λ, K, Π(n | κ), G/I_a becomes an absolute error growing linearly in t.
 //   Every constant and phase is computed in the wide type W (default long double, ε = 1.1e-19) and only the
-//   result is rounded to T. Measured against 113-bit evaluation, Hairer–Vilmart body: W = double 1.8e-14
-//   at t = 100, 1.8e-10 at 1e6, 2.0e-9 at 1e7 (growth exponent 0.97); W = long double 8.5e-17, 2.1e-14,
-//   1.6e-12.
+//   result is rounded to T (the error against a 113-bit evaluation, for W = double and long double:
+//   docs/free_body_exact.md).
 // - Flows composed many times (flow(x, h), a splitting's sub-step) are formed as increments
 //   (Solution::increment): R + R (Q dM Qᵀ), Ω + Q (dm/I), with dM = M − I and dm = m(h) − m(0) O(h) and
 //   built without their O(1) parts — the addition theorems for sn, cn, dn (DLMF §22.8(i)) from the values at
-//   u0 read off m(0), and the frame increment B(m(h)) − B(m(0)) without cancellation. Rebuilding m(h) and
-//   R(h) from scratch each call instead drifted linearly: ‖RᵀR − I‖ 5.8e-11 and energy 4e-12 after 1e5
-//   calls with W = double; as increments 5.7e-14 after 1e5 (a random walk, exponent 0.57). flow(x, 0) = x.
+//   u0 read off m(0), and the frame increment B(m(h)) − B(m(0)) without cancellation. Rebuilt from scratch
+//   each call instead, m(h) and R(h) make the invariants drift linearly; as increments they random-walk
+//   (docs/free_body_exact.md). flow(x, 0) = x.
 //
 // Exact: order ∞ up to round-off. Preserves R_p m = μ by construction (to round-off, with no growth in t),
 // |m| and T to round-off (m(t) lies on the invariant curve for every t), R on SO(3) to round-off; the flow
@@ -90,12 +89,11 @@
 // Scalars: T = float, double or long double; W ≥ T a floating-point type (long double, double, or a
 // Boost.Multiprecision type, used by the tests as a 113-bit reference; the eigensolver then still runs in
 // long double). Not ceres::Jet: the special functions are Boost's, for arithmetic types only.
-// Cost per flow(x, h) (tests, CostPerCall; 2-vCPU shared VM, noisy): ≈ 1.7–3 µs with W = double, ≈ 11–20 µs
-// with W = long double (x87 transcendental functions); state(t) of a solved Solution ≈ 0.8–1.3 µs (double,
-// short t). One solve = 1 RF + 1 RJ; one evaluation = one Landen descent + 1 RF + 1 RJ (+ 2 RF + 1 RJ for
-// K, Π(n | κ) at long times or when am u crosses ±π/2). Use FreeBodyExact<double, double> for splittings
-// (short h: the linear growth in t is irrelevant, and invariants random-walk as measured above), the
-// default W = long double as a reference solution.
+// Cost: one solve = 1 RF + 1 RJ; one evaluation = one Landen descent + 1 RF + 1 RJ (+ 2 RF + 1 RJ for
+// K, Π(n | κ) at long times or when am u crosses ±π/2); W = long double is several times slower than
+// W = double (x87 transcendental functions; times per call: docs/free_body_exact.md, CostPerCall). Use
+// FreeBodyExact<double, double> for splittings (short h: the linear growth in t is irrelevant, and
+// invariants random-walk as above), the default W = long double as a reference solution.
 //
 // References.
 // [CFSZ] E. Celledoni, F. Fassò, N. Säfström, A. Zanna, "The exact computation of the free rigid body motion

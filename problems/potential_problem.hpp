@@ -30,9 +30,9 @@
 // arithmetic); for derivatives with respect to its parameters (fitting), give it a member template
 // `template <class S> Functor<S> cast() const`, which cast<S>() of the problem then uses.
 //
-// Cost: one evaluation of V in dual arithmetic (≈ 4× the flops of V) per torque. Measured on a heavy top
-// (callgrind instructions per step, g++ 12 -O3, h = 0.01): LGVI 650 hand-written, 728 by V(Γ), 1009 by
-// V(R); RKMK4 1009, 1183, 2412 (V(R) takes the generic path: every stage forms R exp(u)).
+// Cost: one evaluation of V in dual arithmetic (≈ 4× the flops of V) per torque; V(R) takes the generic path
+// (every stage of RKMK forms R exp(u)), V(Γ) the reduced one. Instructions per step against the hand-written
+// heavy top: docs/performance.md, "Design measurements behind the code".
 // Invariants: the energy (computed by core/invariants.hpp for every problem); a generic potential has
 // no other, so `invariant_names` is empty. No allocation anywhere.
 #pragma once

@@ -300,7 +300,7 @@ TEST(LagrangeSplit, ConservesMomentumPsiExactlyAndMomentumKToRoundOff) {
 // At steps where the spin per step is large (h = 0.3: φ = 0.41 rad about the symmetry axis, the same every
 // step) R stays on SO(3) and m·k stays put to round-off, growing like a random walk, not linearly: the
 // rotation by φ rounded to doubles has a fixed defect, which a 3×3-matrix update turned into a linear drift
-// (‖RᵀR − I‖ 1.7e-11 after 10⁶ steps, 6.7e-11 after 4·10⁶, growing ×4 per ×4 steps: lagrange_split.hpp).
+// (‖RᵀR − I‖ 1.7e-11 after 10⁶ steps, 6.7e-11 after 4·10⁶, growing ×4 per ×4 steps: docs/findings.md).
 // Growth exponent: least-squares slope of log(running max) against log(steps) over 4·10³ … 4·10⁶ steps.
 TEST(LagrangeSplit, LongRunAtLargeSteps) {
   const LagrangeTop<double> top = tilted_lagrange_top();
