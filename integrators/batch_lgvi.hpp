@@ -45,6 +45,7 @@
 #include "../core/inertia.hpp"
 #include "../problems/free_body.hpp"
 #include "../problems/heavy_top.hpp"
+#include "batch_dispatch.hpp"
 #include "batch_kernels.hpp"
 #include "batch_lgvi_kernel.hpp"
 #include "lgvi.hpp"
@@ -61,16 +62,14 @@
 namespace lgi {
 
 namespace batch_kernel {
-#if defined(LGI_HAVE_BATCH_AVX2)
+// Declared in every build, defined in lgi::batch: called only where it is linked (LGI_HAVE_BATCH_AVX2,
+// LGI_HAVE_BATCH_AVX512; detail::run_batch_blocks).
 // In lgi::batch (integrators/batch_avx2.cpp): blocks [block_begin, block_end) of avx2_width bodies.
 void run_blocks_avx2(const LgviParams& p, const LgviIO& io, std::size_t block_begin, std::size_t block_end, double h,
                      std::int64_t n_steps, bool torque);
-#endif
-#if defined(LGI_HAVE_BATCH_AVX512)
 // In lgi::batch (integrators/batch_avx512.cpp): blocks [block_begin, block_end) of avx512_width bodies.
 void run_blocks_avx512(const LgviParams& p, const LgviIO& io, std::size_t block_begin, std::size_t block_end,
                        double h, std::int64_t n_steps, bool torque);
-#endif
 }  // namespace batch_kernel
 
 template <class P>
@@ -85,33 +84,10 @@ BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, 
                                  const StepperOptions& options = {}, const BatchOptions& batch_options = {},
                                  std::span<const double> b = {}, BatchKernel kernel = BatchKernel::automatic) {
   constexpr bool torque = std::same_as<P, HeavyTop<double>>;
-  options.check();
-  detail::check_batch_run(batch, h, n_steps);
-  if (!b.empty() && !torque) throw std::invalid_argument("lgi::integrate_batch_lgvi: per-body b given for a free body");
-  if (!b.empty() && b.size() != batch.size())
-    throw std::invalid_argument("lgi::integrate_batch_lgvi: per-body b has " + std::to_string(b.size()) +
-                                " entries for " + std::to_string(batch.size()) + " bodies");
-  if (!batch_kernel_available(kernel))
-    throw std::invalid_argument(std::string("lgi::integrate_batch_lgvi: the ") + to_string(kernel) +
-                                " kernel is not available (lgi::batch not linked, or the CPU lacks it)");
-
+  kernel = detail::batch_prologue<Lgvi, torque>("lgi::integrate_batch_lgvi", problem, batch, t0, h, n_steps, options,
+                                                   batch_options, b, kernel);
+  if (kernel == BatchKernel::per_body) return kernel;
   const Inertia<double> J(problem.inertia);
-  if (kernel == BatchKernel::automatic)
-    kernel = !J.diagonal ? BatchKernel::per_body : batch_widest_kernel();
-  if (kernel == BatchKernel::per_body || !J.diagonal) {
-    if (b.empty()) {
-      integrate_batch<Lgvi>(problem, batch, t0, h, n_steps, options, batch_options);
-    } else {
-      integrate_batch<Lgvi>(
-          [&](std::size_t i) {
-            P p = problem;
-            if constexpr (torque) p.b = b[i];
-            return p;
-          },
-          batch, t0, h, n_steps, options, batch_options);
-    }
-    return BatchKernel::per_body;
-  }
 
   // The shared data, exactly as Lgvi's constructor and solve_cayley compute them.
   batch_kernel::LgviParams p{};
@@ -147,25 +123,17 @@ BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, 
   }
 
   const auto io = batch_kernel::bind_io(batch, b);
-
-  const int width = batch_kernel_width(kernel);
-  const std::size_t blocks = (batch.size() + static_cast<std::size_t>(width) - 1) / static_cast<std::size_t>(width);
-  const int threads = detail::batch_threads(batch_options, blocks);
-  detail::parallel_slices(blocks, threads, [&](std::size_t begin, std::size_t end) {
-#if defined(LGI_HAVE_BATCH_AVX512)
-    if (kernel == BatchKernel::avx512) {
-      batch_kernel::run_blocks_avx512(p, io, begin, end, h, n_steps, torque);
-      return;
-    }
-#endif
-#if defined(LGI_HAVE_BATCH_AVX2)
-    if (kernel == BatchKernel::avx2) {
-      batch_kernel::run_blocks_avx2(p, io, begin, end, h, n_steps, torque);
-      return;
-    }
-#endif
-    batch_kernel::baseline::run_blocks<batch_kernel::baseline_width, torque>(p, io, begin, end, h, n_steps);
-  });
+  detail::run_batch_blocks(
+      batch.size(), kernel, batch_options,
+      [&](std::size_t begin, std::size_t end) {
+        batch_kernel::run_blocks_avx512(p, io, begin, end, h, n_steps, torque);
+      },
+      [&](std::size_t begin, std::size_t end) {
+        batch_kernel::run_blocks_avx2(p, io, begin, end, h, n_steps, torque);
+      },
+      [&](std::size_t begin, std::size_t end) {
+        batch_kernel::baseline::run_blocks<batch_kernel::baseline_width, torque>(p, io, begin, end, h, n_steps);
+      });
   return kernel;
 }
 

@@ -33,6 +33,7 @@
 #include "../core/so3.hpp"
 #include "../problems/free_body.hpp"
 #include "../problems/heavy_top.hpp"
+#include "batch_dispatch.hpp"
 #include "batch_kernels.hpp"
 #include "batch_rkmk_kernel.hpp"
 #include "butcher_tableaus.hpp"
@@ -47,16 +48,14 @@
 namespace lgi {
 
 namespace batch_kernel {
-#if defined(LGI_HAVE_BATCH_AVX2)
+// Declared in every build, defined in lgi::batch: called only where it is linked (LGI_HAVE_BATCH_AVX2,
+// LGI_HAVE_BATCH_AVX512; detail::run_batch_blocks).
 // In lgi::batch (integrators/batch_avx2.cpp): blocks [block_begin, block_end) of avx2_width bodies.
 void rkmk4_blocks_avx2(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t block_begin, std::size_t block_end,
                        double h, std::int64_t n_steps, bool torque);
-#endif
-#if defined(LGI_HAVE_BATCH_AVX512)
 // In lgi::batch (integrators/batch_avx512.cpp): blocks [block_begin, block_end) of avx512_width bodies.
 void rkmk4_blocks_avx512(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t block_begin, std::size_t block_end,
                          double h, std::int64_t n_steps, bool torque);
-#endif
 
 // The kernels' fallback for lanes beyond the polynomial sin's range (θ > π, or not finite): so3::exp_coefficients,
 // compiled here, in the caller's translation unit (never in lgi::batch's AVX ones).
@@ -90,33 +89,10 @@ BatchKernel integrate_batch_rkmk4(const P& problem, BodyBatch& batch, double t0,
                                   const StepperOptions& options = {}, const BatchOptions& batch_options = {},
                                   std::span<const double> b = {}, BatchKernel kernel = BatchKernel::automatic) {
   constexpr bool torque = std::same_as<P, HeavyTop<double>>;
-  options.check();
-  detail::check_batch_run(batch, h, n_steps);
-  if (!b.empty() && !torque)
-    throw std::invalid_argument("lgi::integrate_batch_rkmk4: per-body b given for a free body");
-  if (!b.empty() && b.size() != batch.size())
-    throw std::invalid_argument("lgi::integrate_batch_rkmk4: per-body b has " + std::to_string(b.size()) +
-                                " entries for " + std::to_string(batch.size()) + " bodies");
-  if (!batch_kernel_available(kernel))
-    throw std::invalid_argument(std::string("lgi::integrate_batch_rkmk4: the ") + to_string(kernel) +
-                                " kernel is not available (lgi::batch not linked, or the CPU lacks it)");
-
+  kernel = detail::batch_prologue<Rkmk4, torque>("lgi::integrate_batch_rkmk4", problem, batch, t0, h, n_steps, options,
+                                                   batch_options, b, kernel);
+  if (kernel == BatchKernel::per_body) return kernel;
   const Inertia<double> J(problem.inertia);
-  if (kernel == BatchKernel::automatic) kernel = !J.diagonal ? BatchKernel::per_body : batch_widest_kernel();
-  if (kernel == BatchKernel::per_body || !J.diagonal) {
-    if (b.empty()) {
-      integrate_batch<Rkmk4>(problem, batch, t0, h, n_steps, options, batch_options);
-    } else {
-      integrate_batch<Rkmk4>(
-          [&](std::size_t i) {
-            P p = problem;
-            if constexpr (torque) p.b = b[i];
-            return p;
-          },
-          batch, t0, h, n_steps, options, batch_options);
-    }
-    return BatchKernel::per_body;
-  }
 
   // The shared data, exactly as Rkmk4's constructor and the tableau give them.
   batch_kernel::Rkmk4Params p{};
@@ -142,25 +118,17 @@ BatchKernel integrate_batch_rkmk4(const P& problem, BodyBatch& batch, double t0,
   p.exp_coefficients = &batch_kernel::rkmk4_exp_coefficients;
 
   const auto io = batch_kernel::bind_io(batch, b);
-
-  const int width = batch_kernel_width(kernel);
-  const std::size_t blocks = (batch.size() + static_cast<std::size_t>(width) - 1) / static_cast<std::size_t>(width);
-  const int threads = detail::batch_threads(batch_options, blocks);
-  detail::parallel_slices(blocks, threads, [&](std::size_t begin, std::size_t end) {
-#if defined(LGI_HAVE_BATCH_AVX512)
-    if (kernel == BatchKernel::avx512) {
-      batch_kernel::rkmk4_blocks_avx512(p, io, begin, end, h, n_steps, torque);
-      return;
-    }
-#endif
-#if defined(LGI_HAVE_BATCH_AVX2)
-    if (kernel == BatchKernel::avx2) {
-      batch_kernel::rkmk4_blocks_avx2(p, io, begin, end, h, n_steps, torque);
-      return;
-    }
-#endif
-    batch_kernel::baseline::rkmk4_blocks<batch_kernel::baseline_width, torque>(p, io, begin, end, h, n_steps);
-  });
+  detail::run_batch_blocks(
+      batch.size(), kernel, batch_options,
+      [&](std::size_t begin, std::size_t end) {
+        batch_kernel::rkmk4_blocks_avx512(p, io, begin, end, h, n_steps, torque);
+      },
+      [&](std::size_t begin, std::size_t end) {
+        batch_kernel::rkmk4_blocks_avx2(p, io, begin, end, h, n_steps, torque);
+      },
+      [&](std::size_t begin, std::size_t end) {
+        batch_kernel::baseline::rkmk4_blocks<batch_kernel::baseline_width, torque>(p, io, begin, end, h, n_steps);
+      });
   return kernel;
 }
 

@@ -1278,6 +1278,40 @@ inline constexpr EmbeddedTableau<13, 21> verner8{
                  "Munthe-Kaas, BIT 38 (1998) 92",
 };
 
+// An embedded pair (EmbeddedTableau): error weights e and a dense output.
+template <class Tab>
+inline constexpr bool is_embedded_v = requires(const Tab& T) {
+  T.e;
+  T.dense;
+};
+
+// Stages a fixed step needs: up to the last one with b_i ≠ 0 (an embedded pair's later stages feed only its error
+// estimate and dense output).
+template <class Tab>
+constexpr int update_stages(const Tab& T) {
+  int n = 0;
+  for (int i = 0; i < T.stages; ++i)
+    if (T.b[static_cast<std::size_t>(i)] != 0) n = i + 1;
+  return n;
+}
+
+// Stages an embedded pair's dense output uses (dense_stages ≥ stages); a plain tableau's stages.
+template <class Tab>
+constexpr int dense_stages(const Tab& T) {
+  if constexpr (is_embedded_v<Tab>) return T.dense_stages;
+  else return T.stages;
+}
+
+// True for an embedded pair with a second error estimate (DOP853: e3 not all zero).
+template <class Tab>
+constexpr bool has_second_estimate(const Tab& T) {
+  if constexpr (is_embedded_v<Tab>) {
+    for (const auto e : T.e3)
+      if (e != 0) return true;
+  }
+  return false;
+}
+
 // Which weights of an (embedded) tableau a sum takes: the update's b, the error estimate's e, the second estimate's e3.
 enum class Weights { b, e, e3 };
 

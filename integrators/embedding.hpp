@@ -45,6 +45,7 @@
 #include <cmath>
 #include <limits>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 
 namespace lgi {
@@ -166,28 +167,15 @@ class EmbeddedRk {
   using Problem = P;
   using Scalar = typename P::Scalar;
   using Internal = std::conditional_t<C == embedding::Chart::quaternion, QuatState<Scalar>, State<Scalar>>;
-  static constexpr bool embedded = requires { Tableau.e; Tableau.dense; };
+  static constexpr bool embedded = tableaus::is_embedded_v<std::remove_cvref_t<decltype(Tableau)>>;
 
  private:
   static constexpr int N = C == embedding::Chart::quaternion ? 7 : 12;
   using Vec = Eigen::Matrix<Scalar, N, 1>;
   static constexpr bool reduced = P::has_torque && ReducedAttitudeProblem<P>;
-  static constexpr int dense_stages = [] {
-    if constexpr (embedded) return Tableau.dense_stages; else return Tableau.stages;
-  }();
-  static constexpr bool has_second_estimate = [] {
-    if constexpr (embedded) {
-      for (const auto e : Tableau.e3)
-        if (e != 0) return true;
-    }
-    return false;
-  }();
-  static constexpr int update_stages = [] {
-    int n = 0;
-    for (int i = 0; i < Tableau.stages; ++i)
-      if (Tableau.b[i] != 0) n = i + 1;
-    return n;
-  }();
+  static constexpr int dense_stages = tableaus::dense_stages(Tableau);
+  static constexpr bool has_second_estimate = tableaus::has_second_estimate(Tableau);
+  static constexpr int update_stages = tableaus::update_stages(Tableau);  // the stages a fixed step needs
   using Weights = tableaus::Weights;
 
  public:

@@ -95,14 +95,8 @@ class EuclideanRk {
   const Sys& system() const { return system_; }
 
  private:
-  // Stages a step needs: up to the last with b_i ≠ 0 (an embedded pair's later stages feed only its
-  // error estimate; these fixed steps make none).
-  static constexpr int update_stages = [] {
-    int n = 0;
-    for (int i = 0; i < Tableau.stages; ++i)
-      if (Tableau.b[static_cast<std::size_t>(i)] != 0) n = i + 1;
-    return n;
-  }();
+  // Stages a step needs (these fixed steps make no error estimate).
+  static constexpr int update_stages = tableaus::update_stages(Tableau);
 
   template <int I>
   void stage(const Vector& y, const Scalar& t, const Scalar& h, std::array<Vector, update_stages>& k) const {

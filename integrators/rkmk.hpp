@@ -115,6 +115,7 @@
 #include <cstdint>
 #include <limits>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 
 namespace lgi {
@@ -135,7 +136,7 @@ class Rkmk {
   using Vec6 = Eigen::Matrix<Scalar, 6, 1>;
 
   // An embedded pair: error estimate, dense output, adaptive steps.
-  static constexpr bool embedded = requires { Tableau.e; Tableau.dense; };
+  static constexpr bool embedded = tableaus::is_embedded_v<std::remove_cvref_t<decltype(Tableau)>>;
   static constexpr LieChart chart = Chart;
 
  private:
@@ -155,23 +156,9 @@ class Rkmk {
   // Runs with a non-diagonal J in principal axes (header): floating-point scalars, no torque or one with a lever.
   static constexpr bool principal_capable = std::is_floating_point_v<Scalar> && (!P::has_torque || has_lever);
   static constexpr bool lever_in_principal_axes = principal_capable && has_lever;
-  static constexpr int dense_stages = [] {
-    if constexpr (embedded) return Tableau.dense_stages; else return Tableau.stages;
-  }();
-  static constexpr bool has_second_estimate = [] {
-    if constexpr (embedded) {
-      for (const auto e : Tableau.e3)
-        if (e != 0) return true;
-    }
-    return false;
-  }();
-  // Stages a fixed step needs: up to the last one with b_i ≠ 0 (later ones feed only the error estimate).
-  static constexpr int update_stages = [] {
-    int n = 0;
-    for (int i = 0; i < Tableau.stages; ++i)
-      if (Tableau.b[i] != 0) n = i + 1;
-    return n;
-  }();
+  static constexpr int dense_stages = tableaus::dense_stages(Tableau);
+  static constexpr bool has_second_estimate = tableaus::has_second_estimate(Tableau);
+  static constexpr int update_stages = tableaus::update_stages(Tableau);  // the stages a fixed step needs
   using Weights = tableaus::Weights;
 
   // Scene name and title: the tableau's, with "_cayley" and " in Cayley coordinates" for the Cayley chart.
