@@ -1,5 +1,9 @@
-# Builds and runs examples/consumer against lgi, the way a user's project would.
-#   cmake -DMODE=install|subdirectory -DLGI_SOURCE_DIR=... -DLGI_BINARY_DIR=... -DWORK_DIR=... -P consumer_test.cmake
+# Builds and runs examples/consumer against lgi, the way a user's project would: configured without a build type
+# (the consumer must then build optimised), one program per exported target — lgi::lgi and lgi::core, lgi::batch
+# where lgi has it, lgi::fit after an install (both required when REQUIRE_ALL says this lgi has them) — each run and
+# required to succeed.
+#   cmake -DMODE=install|subdirectory -DREQUIRE_ALL=ON|OFF -DLGI_SOURCE_DIR=... -DLGI_BINARY_DIR=... -DWORK_DIR=...
+#         -P consumer_test.cmake
 cmake_minimum_required(VERSION 3.25)
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
@@ -10,15 +14,30 @@ function(run)
     message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
   endif()
   message("${out}")
+  set(output "${out}" PARENT_SCOPE)
 endfunction()
 
 if(MODE STREQUAL "install")
   run(${CMAKE_COMMAND} --install ${LGI_BINARY_DIR} --prefix ${WORK_DIR}/prefix)
   run(${CMAKE_COMMAND} -S ${LGI_SOURCE_DIR}/examples/consumer -B ${WORK_DIR}/build
-      -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release)
+      -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DLGI_CONSUMER_REQUIRE_ALL=${REQUIRE_ALL})
 else()
+  set(REQUIRE_ALL OFF)  # add_subdirectory builds lgi::fit only when asked (LGI_BUILD_FIT)
   run(${CMAKE_COMMAND} -S ${LGI_SOURCE_DIR}/examples/consumer -B ${WORK_DIR}/build
-      -DLGI_SOURCE_DIR=${LGI_SOURCE_DIR} -DCMAKE_BUILD_TYPE=Release)
+      -DLGI_SOURCE_DIR=${LGI_SOURCE_DIR})
 endif()
-run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
-run(${WORK_DIR}/build/consumer)
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/build -j 2)
+
+set(programs consumer consumer_core)
+foreach(program consumer_batch consumer_fit)  # built where lgi has the target (required: LGI_CONSUMER_REQUIRE_ALL)
+  if(EXISTS ${WORK_DIR}/build/${program})
+    list(APPEND programs ${program})
+  endif()
+endforeach()
+foreach(program ${programs})
+  run(${WORK_DIR}/build/${program})
+  if(program STREQUAL "consumer_core" AND NOT output MATCHES "optimised: yes")
+    message(FATAL_ERROR "${program}: built without optimisation (a consumer configured without a build type must "
+                        "build optimised)")
+  endif()
+endforeach()
