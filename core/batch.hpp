@@ -158,7 +158,7 @@ void integrate_batch_each(const MakeStepper& make_stepper, BodyBatch& batch, dou
   });
 }
 
-/// `integrate_batch<Method>`(problem, …): `Method<P>` (e.g. Lgvi, Rkmk4) constructed from `problem` and
+/// `integrate_batch<Method>`(problem, …): `Method<P>` (such as Lgvi, Rkmk4) constructed from `problem` and
 /// `options` for every body; `problem` is either one problem shared by all bodies or a function
 /// (std::size_t i) → problem giving body i its own parameters.
 template <template <class> class Method, class ProblemOrFactory>

@@ -107,7 +107,8 @@ concept StepFunction = requires(S& s, typename S::Internal& y, const typename S:
 
 /// A one-step method on SO(3) × R³: a StepFunction with its Problem, its MethodTraits and the conversions
 /// to_internal / to_state (the contract of this header: step leaves y untouched unless ok, allocates nothing, gives
-/// the same bits for the same (y, t, h)).
+/// the same bits for the same (y, t, h)). One thread at a time per stepper object (step updates its counters);
+/// copies are independent.
 template <class S>
 concept Stepper = requires(S& s, const State<typename S::Scalar>& x, typename S::Internal& y,
                            const typename S::Scalar& t) {

@@ -161,7 +161,7 @@ concept UniformGravityProblem = requires(const P& p) {
 template <class P>
 concept CoordinateProblem = !RigidBodyProblem<P> && requires(const P& p) { p.heavy_top(); };
 
-/// The problem type P re-instantiated on scalar S (e.g. `HeavyTop<double>` → `HeavyTop<Jet>`).
+/// The problem type P re-instantiated on scalar S (such as `HeavyTop<double>` → `HeavyTop<Jet>`).
 template <class P, class S>
 using rebind_problem_t = decltype(std::declval<const P&>().template cast<S>());
 
