@@ -59,8 +59,7 @@ class RunSink {
   ~RunSink() = default;
 };
 
-/// One method on one problem, type-erased (this header). Built by make_integrator; not copyable through this
-/// interface; one thread at a time.
+/// One method on one problem, type-erased (this header). Built by make_integrator; one thread at a time.
 class Integrator {
  public:
   virtual ~Integrator() = default;

@@ -45,7 +45,7 @@ struct MethodTraits {
   std::array<std::string_view, 6> options{};
 };
 
-/// The outcome of one step; anything but `ok` leaves the stepper's state untouched.
+/// The outcome of one step; anything but `ok` leaves the state y untouched.
 enum class StepStatus : std::uint8_t {
   ok = 0,         ///< the step was taken and its state is finite
   not_converged,  ///< the implicit equation's Newton iteration did not converge within its limits

@@ -106,7 +106,7 @@ template <class T>
 
 /// A = sin θ/θ and B = (1 − cos θ)/θ² of w (θ = |w|), with θ² itself: Taylor polynomials in θ² below
 /// small_angle_theta2, the polynomial sin of core/trig.hpp up to θ = π for double-valued scalars, libm beyond.
-/// Finite for every finite w, exact to round-off (a few ulps) in value and derivative parts.
+/// Finite for every finite w, accurate to a few ulps.
 template <class T>
 Coefficients<T> exp_coefficients(const Vec3<T>& w) {
   const T theta2 = w.squaredNorm();

@@ -58,7 +58,7 @@ struct FitOptions {
   double t_end = -1;       ///< observations must lie in [0, t_end] (scene: t_end); < 0: no limit
   StepperOptions stepper;  ///< the integrator's options (Newton tolerance, ...); rtol/atol must be 0
   SolverOptions solver;            ///< the solver's limits and tolerances
-  bool compute_covariance = true;  ///< compute FitResult::covariance (required for a usable fit)
+  bool compute_covariance = true;  ///< compute FitResult::covariance; then a rank-deficient fit is not usable
   /// Goodness of fit: with observations that carry their true σ and a model that explains them, χ² = Σ (r/σ)² at
   /// the solution follows a χ² distribution with ν = residuals − free coordinates degrees of freedom. The fit is
   /// usable only if P(χ²_ν ≥ χ²) ≥ min_p_value (FitResult::p_value; the test is not applied with robust losses or

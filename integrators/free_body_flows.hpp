@@ -231,8 +231,8 @@ inline void multiply_increment_vector(Quaternion<double>& q, double x, double y,
 }  // namespace detail
 
 /// q ← q ⊗ (1, (x, y, z))/√(a |q|²), written as an increment of q (a = 1 + x² + y² + z² makes the factor a unit
-/// quaternion; the |q|² in the root renormalises q as it goes). In double with GCC, two-lane vector code with the
-/// same operations, hence the same bits.
+/// quaternion; the |q|² in the root renormalises q as it goes). In double with GCC, the same operations in two-lane
+/// vector code.
 template <class T>
 void multiply_increment(Quaternion<T>& q, const T& x, const T& y, const T& z, const T& a) {
 #if defined(__GNUC__) && !defined(__clang__)
@@ -424,7 +424,7 @@ struct DmvSweepTable {
   ///@}
   V fast_w2 = 0;  ///< min(quick_w2, fixed_point_w2)
 
-  /// Zeros: every test fails, Newton from the start.
+  /// All zeros: a placeholder, to be assigned a table built from the moments.
   DmvSweepTable() = default;
   /// The table for r_max = max|r_i|, the smallest and largest moments and the Newton tolerance (StepperOptions).
   DmvSweepTable(V r_max, V min_I, V max_I, V tol)
