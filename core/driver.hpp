@@ -1,22 +1,23 @@
-// lgi/core/driver.hpp — the time loop: step a state through time, land on output times, stop and resume anywhere.
-//
-// Time is t_n = t0 + n·h on a fixed grid, never a running sum (Boost.Odeint, integrate_const). An
-// output time that falls between grid points t_m < t_out < t_m+1 is reached by one extra step of size
-// t_out − t_m taken from a copy of the state: the main trajectory stays on the grid, so the states at
-// grid points do not depend on which output times were asked for, and a symplectic method keeps a
-// constant step. Output times within 16 ulps of a grid point (relative to (t − t0)/h) are on the grid.
-// The last output time's side-step is taken on the trajectory itself, so a run ends at its last output time.
-//
-// drive_grid is the one fixed-step loop of lgi: integrate_times, integrate_every and integrate_to below, the
-// batch driver (core/batch.hpp), the Euclidean drivers (integrators/euclidean_rk.hpp) and the engine behind the
-// `lgi` command (core/engine.hpp) all run through it; integrators/adaptive.hpp's drive_adaptive is the adaptive one.
-// Its state between calls is a Cursor — the grid index, the next output event, the steps taken — so a run can
-// stop anywhere (a budget, a signal, a failed step) and continue bit for bit from a copy of the cursor and the
-// stepper's internal state (the checkpoints of `lgi run`).
-//
-// The step loop allocates nothing and does nothing but step: observers run only at output events, the
-// monitor (progress, budgets, interruption) after as many steps as it asks for, and `NoMonitor` compiles
-// away. On a failed step the run stops; the state is the last good one and the summary says where and why.
+/// \file
+/// lgi/core/driver.hpp — the time loop: step a state through time, land on output times, stop and resume anywhere.
+///
+/// Time is t_n = t0 + n·h on a fixed grid, never a running sum (Boost.Odeint, integrate_const). An
+/// output time that falls between grid points t_m < t_out < t_m+1 is reached by one extra step of size
+/// t_out − t_m taken from a copy of the state: the main trajectory stays on the grid, so the states at
+/// grid points do not depend on which output times were asked for, and a symplectic method keeps a
+/// constant step. Output times within 16 ulps of a grid point (relative to (t − t0)/h) are on the grid.
+/// The last output time's side-step is taken on the trajectory itself, so a run ends at its last output time.
+///
+/// drive_grid is the one fixed-step loop of lgi: integrate_times, integrate_every and integrate_to below, the
+/// batch driver (core/batch.hpp), the Euclidean drivers (integrators/euclidean_rk.hpp) and the engine behind the
+/// `lgi` command (core/engine.hpp) all run through it; integrators/adaptive.hpp's drive_adaptive is the adaptive one.
+/// Its state between calls is a Cursor — the grid index, the next output event, the steps taken — so a run can
+/// stop anywhere (a budget, a signal, a failed step) and continue bit for bit from a copy of the cursor and the
+/// stepper's internal state (the checkpoints of `lgi run`).
+///
+/// The step loop allocates nothing and does nothing but step: observers run only at output events, the
+/// monitor (progress, budgets, interruption) after as many steps as it asks for, and `NoMonitor` compiles
+/// away. On a failed step the run stops; the state is the last good one and the summary says where and why.
 #pragma once
 
 #include "integrator.hpp"
@@ -34,27 +35,33 @@
 
 namespace lgi {
 
+/// How a run ended (IntegrationSummary::status).
 enum class RunStatus : std::uint8_t {
-  completed = 0,
-  step_failed,  // a step returned a status other than ok (see IntegrationSummary::step_status)
-  stopped,      // the monitor asked to stop (budget, interruption), or a step budget was reached
+  completed = 0,  ///< every requested output time was reached
+  step_failed,  ///< a step returned a status other than ok (see IntegrationSummary::step_status)
+  stopped,      ///< the monitor asked to stop (budget, interruption), or a step budget was reached
 };
 
+/// What a driver reports: how the run ended, why a step failed, how many steps it took and where it stopped.
 struct IntegrationSummary {
-  RunStatus status = RunStatus::completed;
-  StepStatus step_status = StepStatus::ok;
-  std::int64_t steps = 0;  // steps taken, output side-steps included
-  double t = 0;            // time of the state left in x (the last good state)
+  RunStatus status = RunStatus::completed;  ///< completed, step_failed or stopped
+  StepStatus step_status = StepStatus::ok;  ///< the failed step's status when status is step_failed, else ok
+  std::int64_t steps = 0;  ///< steps taken, output side-steps included
+  double t = 0;            ///< time of the state left in x (the last good state)
 };
 
-// The library's monitor protocol: monitor(steps_done) is called every monitor_stride grid steps (adaptive runs:
-// attempted steps); returning false stops the run. NoMonitor compiles away.
+/// The library's monitor protocol: monitor(steps_done) is called every monitor_stride grid steps (adaptive runs:
+/// attempted steps); returning false stops the run. NoMonitor compiles away.
 struct NoMonitor {
+  /// Never stops the run.
   constexpr bool operator()(std::int64_t) const { return true; }
 };
+/// The grid steps (adaptive runs: attempted steps) between two calls of the library's monitor(steps_done).
 inline constexpr std::int64_t monitor_stride = 1024;
 
+/// The observer that observes nothing (the drivers' default): compiles away.
 struct NoObserver {
+  /// Does nothing.
   template <class T>
   constexpr void operator()(const T&, const State<T>&) const {}
 };
@@ -92,39 +99,42 @@ struct OutputEvent {
 
 }  // namespace detail
 
-// Where a driver is: with the stepper's internal state, all a run's future depends on. Fixed steps use n, event
-// and steps; adaptive runs (integrators/adaptive.hpp) the rest. A fresh run starts from a default Cursor (adaptive:
-// adaptive_start).
+/// Where a driver is: with the stepper's internal state, all a run's future depends on. Fixed steps use n, event
+/// and steps; adaptive runs (integrators/adaptive.hpp) the rest. A fresh run starts from a default Cursor (adaptive:
+/// adaptive_start).
 template <class T = double>
 struct Cursor {
-  bool adaptive = false;
-  std::int64_t steps = 0;  // steps taken: fixed — grid steps and output side-steps; adaptive — accepted steps
+  bool adaptive = false;   ///< an adaptive run's cursor (drive_adaptive) rather than a fixed-step one (drive_grid)
+  std::int64_t steps = 0;  ///< steps taken: fixed — grid steps and output side-steps; adaptive — accepted steps
   // fixed steps
-  std::int64_t n = 0;      // grid index: the state is at t0 + n·h
-  std::int64_t event = 0;  // index of the next output event (GridEvents)
+  std::int64_t n = 0;      ///< grid index: the state is at t0 + n·h
+  std::int64_t event = 0;  ///< index of the next output event (GridEvents)
   // adaptive steps
-  T t{};                             // time of the state
-  double h = 0;                      // the next trial step
-  double err_old = 1e-4;             // the error of the last accepted step (PI controller)
-  bool rejected_last = false;        // the last trial was rejected: the next accepted step may not grow
-  StepStatus cause = StepStatus::step_size_underflow;  // what drove h down (reported on underflow)
+  T t{};                             ///< time of the state
+  double h = 0;                      ///< the next trial step
+  double err_old = 1e-4;             ///< the error of the last accepted step (PI controller)
+  bool rejected_last = false;        ///< the last trial was rejected: the next accepted step may not grow
+  StepStatus cause = StepStatus::step_size_underflow;  ///< what drove h down (reported on underflow)
+  ///@{
+  /// Trial steps attempted (accepted + rejected), and those rejected.
   std::int64_t attempts = 0, rejected = 0;
-  std::int64_t next = 0;             // index of the next requested output time
+  ///@}
+  std::int64_t next = 0;             ///< index of the next requested output time
 };
 
-// The output events of a fixed-step run, by index: rows at given times, or every N steps and at t_end.
+/// The output events of a fixed-step run, by index: rows at given times, or every N steps and at t_end.
 template <class T = double>
 class GridEvents {
  public:
-  // Events at `times` (increasing, ≥ t0); t = t0 is observed before any event, so a first time equal to t0 is not
-  // an event. The span must outlive this object.
+  /// Events at `times` (increasing, ≥ t0); t = t0 is observed before any event, so a first time equal to t0 is not
+  /// an event. The span must outlive this object.
   GridEvents(std::span<const T> times, const T& t0, const T& h) : times_(times), t0_(t0), h_(h) {
     if (!times_.empty() && value_of(times_[0]) == value_of(t0)) first_ = 1;
   }
-  // Events every `every` steps (grid points t0 + k·every·h before t_end) and at t_end (none when t_end = t0).
+  /// Events every `every` steps (grid points t0 + k·every·h before t_end) and at t_end (none when t_end = t0).
   GridEvents(std::int64_t every, const T& t0, const T& t_end, const T& h)
       : t0_(t0), h_(h), every_(every), t_end_(t_end), end_(detail::locate(t0, h, t_end)) {}
-  // One event: grid index m (m ≥ 0 steps; none when m = 0).
+  /// One event: grid index m (m ≥ 0 steps; none when m = 0).
   static GridEvents steps(std::int64_t m, const T& t0, const T& h) {
     GridEvents e(std::span<const T>(), t0, h);
     e.every_ = std::max<std::int64_t>(m, 1);
@@ -133,7 +143,7 @@ class GridEvents {
     return e;
   }
 
-  // The k-th event (k ≥ 0); false past the last.
+  /// The k-th event (k ≥ 0); false past the last.
   bool get(std::int64_t k, detail::OutputEvent<T>& e) const {
     if (every_ == 0) {
       if (k < 0) return false;
@@ -154,8 +164,8 @@ class GridEvents {
     return true;
   }
 
-  // True if a run can be at grid index n with `event` its next output event: the events before it are at or
-  // before n, and it is not (a resumed run's cursor; every event's grid index is where drive_grid reaches it).
+  /// True if a run can be at grid index n with `event` its next output event: the events before it are at or
+  /// before n, and it is not (a resumed run's cursor; every event's grid index is where drive_grid reaches it).
   bool accepts(std::int64_t n, std::int64_t event) const {
     detail::OutputEvent<T> e;
     if (event < 0 || n < 0) return false;
@@ -172,24 +182,26 @@ class GridEvents {
   detail::GridPoint end_{};
 };
 
-// How a drive ended when it did not complete.
+/// How a drive ended when it did not complete: none (it completed: every event observed), failed (a step failed;
+/// IntegrationSummary::step_status says why), monitor (the monitor returned 0), budget (the step limit, adaptive:
+/// attempt limit, was reached).
 enum class Halt : std::uint8_t { none, failed, monitor, budget };
 
-// A drive's monitor: called with the cursor and the state after first() steps, then after as many steps as each call
-// returns; 0 stops the run (Halt::monitor). DriveMonitor<M> is true for such an object; NoMonitor (and every other
-// type) is no monitor at all: the loop has no check.
+/// A drive's monitor: called with the cursor and the state after first() steps, then after as many steps as each call
+/// returns; 0 stops the run (Halt::monitor). `DriveMonitor<M>` is true for such an object; NoMonitor (and every other
+/// type) is no monitor at all: the loop has no check.
 template <class M, class Cursor, class Internal>
 concept DriveMonitor = requires(M& m, const Cursor& c, const Internal& y) {
   { m.first(c) } -> std::convertible_to<std::int64_t>;
   { m(c, y) } -> std::convertible_to<std::int64_t>;
 };
 
-// Fixed steps from the cursor (n, event, steps) with y the state at t0 + n·h (a fresh run: n = event = steps = 0,
-// and t0 already observed by the caller). observe(t, y) at each event: y points to the state, or is nullptr for
-// the initial state as given (no step was taken: the caller's own copy, without a round trip through the stepper's
-// coordinates). step_limit: the run stops (Halt::budget) when c.steps would pass it. On return y is the last good
-// state, summary.t its time, `moved` whether any step was taken, and c where the run is (continue from a copy of c
-// and y to get the same bits).
+/// Fixed steps from the cursor (n, event, steps) with y the state at t0 + n·h (a fresh run: n = event = steps = 0,
+/// and t0 already observed by the caller). observe(t, y) at each event: y points to the state, or is nullptr for
+/// the initial state as given (no step was taken: the caller's own copy, without a round trip through the stepper's
+/// coordinates). step_limit: the run stops (Halt::budget) when c.steps would pass it. On return y is the last good
+/// state, summary.t its time, `moved` whether any step was taken, and c where the run is (continue from a copy of c
+/// and y to get the same bits).
 template <StepFunction S, class Observe, class Monitor>
 Halt drive_grid(S& stepper, typename S::Internal& y, const typename S::Scalar& t0, const typename S::Scalar& h,
                 const GridEvents<typename S::Scalar>& events, std::int64_t step_limit, Cursor<typename S::Scalar>& c,
@@ -281,11 +293,14 @@ Halt drive_grid(S& stepper, typename S::Internal& y, const typename S::Scalar& t
 // The loop of integrators/adaptive.hpp (its header has the method: error control on the group, the PI controller,
 // dense output), here beside the fixed-step one so that both are the engine's (core/engine.hpp).
 
-// The smallest relative tolerance accepted: 10 ε, as in DOPRI5 and DOP853. Below it the error estimate (a
-// difference of two solutions) no longer sees the round-off of the solution itself and would "meet" any
-// tolerance with steps too small to mean anything.
+/// The smallest relative tolerance accepted: 10 ε, as in DOPRI5 and DOP853. Below it the error estimate (a
+/// difference of two solutions) no longer sees the round-off of the solution itself and would "meet" any
+/// tolerance with steps too small to mean anything.
 inline constexpr double min_rtol = 10 * std::numeric_limits<double>::epsilon();
 
+/// A Stepper with an embedded pair, as drive_adaptive needs it: attempt(y, t, h, y1, err, dense) takes a trial step
+/// into y1 with its scaled error err (accepted when ≤ 1) and leaves what dense_output(dense, θ) needs, θ ∈ [0, 1];
+/// control_order k > 0 is the exponent of h ∝ err^(−1/k); rtol() and atol() its tolerances.
 template <class S>
 concept AdaptiveStepper =
     Stepper<S> && requires(const S& s, const typename S::Internal& y, typename S::Internal& y1,
@@ -298,18 +313,18 @@ concept AdaptiveStepper =
       { s.atol() } -> std::convertible_to<double>;
     } && (S::control_order > 0);
 
-// Step-size control (the defaults are DOPRI5's).
+/// Step-size control (the defaults are DOPRI5's).
 struct AdaptiveOptions {
-  double safety = 0.9;     // h_new = h · safety · (1/err)^α …
-  double fac_min = 0.2;    // … at least fac_min · h
-  double fac_max = 10.0;   // … at most fac_max · h
-  double beta = 0.04;      // PI controller: exponent of the previous error (0: I controller)
-  double h_max = std::numeric_limits<double>::infinity();
-  double h_min = 0;        // a step below max(h_min, 16 ε max(|t|, |t_end − t0|)) fails (step_size_underflow)
-  std::int64_t max_steps = 1'000'000'000;  // attempted steps (accepted + rejected) before the run stops
-  std::int64_t every = 0;  // also observe every `every` accepted steps (0: only at the requested times)
+  double safety = 0.9;     ///< h_new = h · safety · (1/err)^α …
+  double fac_min = 0.2;    ///< … at least fac_min · h
+  double fac_max = 10.0;   ///< … at most fac_max · h
+  double beta = 0.04;      ///< PI controller: exponent of the previous error (0: I controller)
+  double h_max = std::numeric_limits<double>::infinity();  ///< no step is longer (time units)
+  double h_min = 0;        ///< a step below max(h_min, 16 ε max(|t|, |t_end − t0|)) fails (step_size_underflow)
+  std::int64_t max_steps = 1'000'000'000;  ///< attempted steps (accepted + rejected) before the run stops
+  std::int64_t every = 0;  ///< also observe every `every` accepted steps (0: only at the requested times)
 
-  // Throws std::invalid_argument unless the values make sense.
+  /// Throws std::invalid_argument unless the values make sense.
   void check() const {
     if (!(safety > 0 && safety <= 1)) throw std::invalid_argument("lgi::AdaptiveOptions: safety must be in (0, 1]");
     if (!(fac_min > 0 && fac_min < 1)) throw std::invalid_argument("lgi::AdaptiveOptions: fac_min must be in (0, 1)");
@@ -335,7 +350,7 @@ inline double pi_rejected_divisor(double err, double alpha, const AdaptiveOption
 }
 }  // namespace detail
 
-// A fresh adaptive cursor at t0: the first trial step h0 (≤ h_max), the integrate_adaptive's initial values.
+/// A fresh adaptive cursor at t0: the first trial step h0 (≤ h_max), the integrate_adaptive's initial values.
 template <class T>
 Cursor<T> adaptive_start(const T& t0, double h0, const AdaptiveOptions& options) {
   Cursor<T> c;
@@ -345,12 +360,12 @@ Cursor<T> adaptive_start(const T& t0, double h0, const AdaptiveOptions& options)
   return c;
 }
 
-// The adaptive loop (the fixed-step one is drive_grid, core/driver.hpp): from the cursor to times.back(), times
-// increasing and, from c.next on, > c.t (a fresh run: t0 observed by the caller and times equal to t0 skipped,
-// adaptive_start). observe(t, y) at each requested time inside an accepted step (y its dense output), at its end,
-// and every options.every accepted steps; the monitor as in drive_grid, counted in attempted steps; attempt_limit:
-// the run stops (Halt::budget) when c.attempts reaches it. span: |t_end − t0| of the whole run (the step-size
-// floor's scale). On return y is the last accepted state, summary.t its time, c where the run is.
+/// The adaptive loop (the fixed-step one is drive_grid, core/driver.hpp): from the cursor to times.back(), times
+/// increasing and, from c.next on, > c.t (a fresh run: t0 observed by the caller and times equal to t0 skipped,
+/// adaptive_start). observe(t, y) at each requested time inside an accepted step (y its dense output), at its end,
+/// and every options.every accepted steps; the monitor as in drive_grid, counted in attempted steps; attempt_limit:
+/// the run stops (Halt::budget) when c.attempts reaches it. span: |t_end − t0| of the whole run (the step-size
+/// floor's scale). On return y is the last accepted state, summary.t its time, c where the run is.
 template <AdaptiveStepper S, class Observe, class Monitor>
 Halt drive_adaptive(S& stepper, typename S::Internal& y, std::span<const typename S::Scalar> times, double span,
                     const AdaptiveOptions& options, std::int64_t attempt_limit, Cursor<typename S::Scalar>& c,
@@ -497,8 +512,8 @@ IntegrationSummary drive_library(S& stepper, State<typename S::Scalar>& x, const
 
 }  // namespace detail
 
-// Integrates from t0 with step h, calling observe(t, x) at t0 and at each of `times` (strictly
-// increasing, ≥ t0). On return x is the state at times.back() (or the last good state, see summary).
+/// Integrates from t0 with step h, calling observe(t, x) at t0 and at each of `times` (strictly
+/// increasing, ≥ t0). On return x is the state at times.back() (or the last good state, see summary).
 template <Stepper S, class Observer = NoObserver, class Monitor = NoMonitor>
 IntegrationSummary integrate_times(S& stepper, State<typename S::Scalar>& x, const typename S::Scalar& t0,
                                    const typename S::Scalar& h, std::span<const typename S::Scalar> times,
@@ -508,7 +523,7 @@ IntegrationSummary integrate_times(S& stepper, State<typename S::Scalar>& x, con
   return detail::drive_library(stepper, x, t0, h, events, observe, monitor);
 }
 
-// Integrates from t0 to t_end with step h, calling observe(t, x) at t0, every `every` steps, and at t_end.
+/// Integrates from t0 to t_end with step h, calling observe(t, x) at t0, every `every` steps, and at t_end.
 template <Stepper S, class Observer = NoObserver, class Monitor = NoMonitor>
 IntegrationSummary integrate_every(S& stepper, State<typename S::Scalar>& x, const typename S::Scalar& t0,
                                    const typename S::Scalar& h, const typename S::Scalar& t_end,
@@ -519,7 +534,7 @@ IntegrationSummary integrate_every(S& stepper, State<typename S::Scalar>& x, con
   return detail::drive_library(stepper, x, t0, h, events, observe, monitor);
 }
 
-// Integrates from t0 to t_end with step h and observes only the start and the end: O(1) memory.
+/// Integrates from t0 to t_end with step h and observes only the start and the end: O(1) memory.
 template <Stepper S, class Observer = NoObserver, class Monitor = NoMonitor>
 IntegrationSummary integrate_to(S& stepper, State<typename S::Scalar>& x, const typename S::Scalar& t0,
                                 const typename S::Scalar& h, const typename S::Scalar& t_end,

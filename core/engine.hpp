@@ -1,24 +1,27 @@
-// lgi/core/engine.hpp — one method on one problem behind a small interface: the type-erased integrator.
-//
-// An Integrator holds a stepper (any Stepper, or a StepFunction with to_internal/to_state) and the states it
-// steps, in slots. Its virtual functions work in chunks: run_grid and run_adaptive run the library's loops
-// (drive_grid, drive_adaptive, core/driver.hpp) from a cursor until the run completes, fails, or the caller's
-// RunSink stops it — inside, the loop calls the stepper's step directly, as a templated loop does, so a step costs
-// what it costs without the interface. Everything around the loop (rows, observers, budgets, checkpoints, sweeps)
-// is written once against this interface instead of once per (method, problem).
-//
-//   auto engine = lgi::make_integrator<lgi::Lgvi<lgi::HeavyTop<double>>>(top, options);
-//   engine->set(lgi::Slot::current, x0, 0.0);
-//   lgi::Cursor<double> c;  … engine->run_grid(h, events, limit, c, summary, moved, sink);
-//
-// Slots. current is the trajectory: run_grid and run_adaptive step it; during RunSink::observe, event is the
-// observed state (a grid point, a side-step's result or a dense output); previous, shadow and scratch belong to the
-// caller (side-steps from a previous state, a second trajectory). save/restore give a slot's numbers
-// (core/state_io.hpp) bit for bit: a checkpoint is the cursor plus save(current). step(slot) steps a slot other than
-// current with a copy of the stepper, so the trajectory's stepper (its counters, a domain flag) sees only its own
-// steps.
-//
-// Thread safety: one thread per Integrator. The interface allocates nothing once built; state() and save() copy.
+/// \file
+/// lgi/core/engine.hpp — one method on one problem behind a small interface: the type-erased integrator.
+///
+/// An Integrator holds a stepper (any Stepper, or a StepFunction with to_internal/to_state) and the states it
+/// steps, in slots. Its virtual functions work in chunks: run_grid and run_adaptive run the library's loops
+/// (drive_grid, drive_adaptive, core/driver.hpp) from a cursor until the run completes, fails, or the caller's
+/// RunSink stops it — inside, the loop calls the stepper's step directly, as a templated loop does, so a step costs
+/// what it costs without the interface. Everything around the loop (rows, observers, budgets, checkpoints, sweeps)
+/// is written once against this interface instead of once per (method, problem).
+///
+/// ~~~{.unparsed}
+///   auto engine = lgi::make_integrator<lgi::Lgvi<lgi::HeavyTop<double>>>(top, options);
+///   engine->set(lgi::Slot::current, x0, 0.0);
+///   lgi::Cursor<double> c;  … engine->run_grid(h, events, limit, c, summary, moved, sink);
+/// ~~~
+///
+/// Slots. current is the trajectory: run_grid and run_adaptive step it; during RunSink::observe, event is the
+/// observed state (a grid point, a side-step's result or a dense output); previous, shadow and scratch belong to the
+/// caller (side-steps from a previous state, a second trajectory). save/restore give a slot's numbers
+/// (core/state_io.hpp) bit for bit: a checkpoint is the cursor plus save(current). step(slot) steps a slot other than
+/// current with a copy of the stepper, so the trajectory's stepper (its counters, a domain flag) sees only its own
+/// steps.
+///
+/// Thread safety: one thread per Integrator. The interface allocates nothing once built; state() and save() copy.
 #pragma once
 
 #include "driver.hpp"
@@ -36,74 +39,85 @@
 
 namespace lgi {
 
+/// The states an Integrator holds (this header's "Slots"): current (the trajectory run_grid and run_adaptive step),
+/// event (the observed state, readable during RunSink::observe only), and previous, shadow, scratch (the caller's).
 enum class Slot : std::uint8_t { current, event, previous, shadow, scratch };
 
-// The caller's side of a chunk: output events and the monitor.
+/// The caller's side of a chunk: output events and the monitor.
 class RunSink {
  public:
-  // An output event at time t: the state is Integrator::state(Slot::event), or — when `initial` — the run's initial
-  // state as the caller gave it (no step was taken; no round trip through the stepper's coordinates).
+  /// An output event at time t: the state is Integrator::state(Slot::event), or — when `initial` — the run's initial
+  /// state as the caller gave it (no step was taken; no round trip through the stepper's coordinates).
   virtual void observe(double t, bool initial) = 0;
-  // The monitor: called after first_check() steps (adaptive: attempted steps), then after as many as each call
-  // returns; 0 stops the run (Halt::monitor). Integrator::save(Slot::current) is the state at the cursor.
+  /// The monitor: called after first_check() steps (adaptive: attempted steps), then after as many as each call
+  /// returns; 0 stops the run (Halt::monitor). Integrator::save(Slot::current) is the state at the cursor.
   virtual std::int64_t check(const Cursor<double>& at) = 0;
+  /// The steps before the first check (default 1).
   virtual std::int64_t first_check() const { return 1; }
 
  protected:
   ~RunSink() = default;
 };
 
+/// One method on one problem, type-erased (this header). Built by make_integrator; one thread at a time.
 class Integrator {
  public:
   virtual ~Integrator() = default;
 
+  /// The method's traits (Stepper::traits).
   virtual const MethodTraits& traits() const = 0;
-  // True for an embedded pair (run_adaptive works); its error estimate's order k.
+  /// True for an embedded pair (run_adaptive works); its error estimate's order k.
   virtual bool adaptive() const = 0;
+  /// The embedded pair's control order k (h ∝ err^(−1/k)); 0 for a method without one.
   virtual int control_order() const = 0;
-  // The count of a slot's numbers (save, restore).
+  /// The count of a slot's numbers (save, restore).
   virtual std::size_t state_size() const = 0;
 
-  // Slot s = the stepper's coordinates of x at time t (Stepper::to_internal).
+  /// Slot s = the stepper's coordinates of x at time t (Stepper::to_internal).
   virtual void set(Slot s, const State<double>& x, double t) = 0;
-  // The state of slot s (Stepper::to_state); Slot::event only during RunSink::observe.
+  /// The state of slot s (Stepper::to_state); Slot::event only during RunSink::observe.
   virtual State<double> state(Slot s) const = 0;
-  // The numbers of slot s, numbers.size() == state_size(); std::invalid_argument otherwise.
+  /// The numbers of slot s, numbers.size() == state_size(); std::invalid_argument otherwise.
   virtual void save(Slot s, std::span<double> numbers) const = 0;
+  /// Slot s (not Slot::event) = the numbers save wrote, bit for bit; std::invalid_argument unless
+  /// numbers.size() == state_size(), std::logic_error for Slot::event.
   virtual void restore(Slot s, std::span<const double> numbers) = 0;
+  /// Slot `to` (not Slot::event) = slot `from`.
   virtual void copy(Slot from, Slot to) = 0;
-  // One step of slot s (not current) from t by h, with a copy of the stepper; the slot is untouched unless ok.
+  /// One step of slot s (not current) from t by h, with a copy of the stepper; the slot is untouched unless ok.
   virtual StepStatus step(Slot s, double t, double h) = 0;
 
-  // Fixed steps from the cursor, the current slot at t0 + c.n·h (drive_grid; t0 = 0).
+  /// Fixed steps from the cursor, the current slot at t0 + c.n·h (drive_grid; t0 = 0).
   virtual Halt run_grid(double h, const GridEvents<double>& events, std::int64_t step_limit, Cursor<double>& c,
                         IntegrationSummary& summary, bool& moved, RunSink& sink) = 0;
-  // Adaptive steps from the cursor to times.back() (drive_adaptive); std::logic_error unless adaptive().
+  /// Adaptive steps from the cursor to times.back() (drive_adaptive); std::logic_error unless adaptive().
   virtual Halt run_adaptive(std::span<const double> times, double span, const AdaptiveOptions& options,
                             std::int64_t attempt_limit, Cursor<double>& c, IntegrationSummary& summary, bool& moved,
                             RunSink& sink) = 0;
 
-  // Newton iterations the trajectory's stepper made (implicit methods; −1 for explicit ones).
+  /// Newton iterations the trajectory's stepper made (implicit methods; −1 for explicit ones).
   virtual std::int64_t newton_iterations() const { return -1; }
-  // For steppers with a domain (CheckedEuclideanStep): true when the trajectory's last failed step left it, with
-  // the time of the rejected state.
+  /// For steppers with a domain (CheckedEuclideanStep): true when the trajectory's last failed step left it, with
+  /// the time of the rejected state.
   virtual bool left_domain(double& t_outside) const {
     (void)t_outside;
     return false;
   }
 };
 
-// The one implementation: S a StepFunction with Scalar = double, to_internal(x, t) and to_state(y); its Internal
-// lists its numbers (LGI_NUMBERS) completely.
+/// The one implementation: S a StepFunction with Scalar = double, to_internal(x, t) and to_state(y); its Internal
+/// lists its numbers (LGI_NUMBERS) completely.
 template <class S>
 class IntegratorOf final : public Integrator {
  public:
-  using Internal = typename S::Internal;
+  using Internal = typename S::Internal;  ///< the stepper's coordinates (a slot's type)
   static_assert(numbers_complete<Internal>(), "lgi::IntegratorOf: an Internal type with members its LGI_NUMBERS leaves out");
 
+  /// S constructed from args (S's constructor arguments; S's exceptions propagate); every slot value-initialised.
   template <class... Args>
   explicit IntegratorOf(Args&&... args) : stepper_(std::forward<Args>(args)...), side_(stepper_) {}
 
+  /// The trajectory's stepper (its counters, its options).
   const S& stepper() const { return stepper_; }
 
   const MethodTraits& traits() const override { return traits_; }
@@ -170,7 +184,7 @@ class IntegratorOf final : public Integrator {
   }
 
  private:
-  // The drivers' observer and monitor, forwarding to the sink.
+  /// The drivers' observer and monitor, forwarding to the sink.
   struct Bridge {
     IntegratorOf& self;
     RunSink& sink;
@@ -183,10 +197,10 @@ class IntegratorOf final : public Integrator {
     std::int64_t operator()(const Cursor<double>& c, const Internal&) { return sink.check(c); }
   };
 
-  // One call site of the (large, flattened) step for the side slots: compile time.
+  /// One call site of the (large, flattened) step for the side slots: compile time.
   [[gnu::noinline]] StepStatus step_side(Internal& z, double t, double h) { return side_.step(z, t, h); }
 
-  // A slot to read (Slot::event: the observed state, during RunSink::observe only).
+  /// A slot to read (Slot::event: the observed state, during RunSink::observe only).
   const Internal& get(Slot s) const {
     if (s == Slot::event) {
       if (!event_) throw std::logic_error("lgi::Integrator: Slot::event outside RunSink::observe");
@@ -194,14 +208,14 @@ class IntegratorOf final : public Integrator {
     }
     return slots_[index(s)];
   }
-  // A slot to write (not Slot::event: that is the driver's).
+  /// A slot to write (not Slot::event: that is the driver's).
   Internal& put(Slot s) {
     if (s == Slot::event) throw std::logic_error("lgi::Integrator: Slot::event is read-only");
     return slots_[index(s)];
   }
   static std::size_t index(Slot s) { return static_cast<std::size_t>(s) - (s > Slot::event ? 1 : 0); }
-  // The numbers of a slot: the leading numbers_in_use() of its Internal when the stepper says (Projected switched
-  // off), else all of them.
+  /// The numbers of a slot: the leading numbers_in_use() of its Internal when the stepper says (Projected switched
+  /// off), else all of them.
   std::size_t numbers() const {
     if constexpr (requires { stepper_.numbers_in_use(); }) return stepper_.numbers_in_use();
     else return number_count<Internal>();
@@ -213,13 +227,13 @@ class IntegratorOf final : public Integrator {
   }
 
   S stepper_;
-  S side_;  // steps the side slots (its counters and flags are not the trajectory's)
-  Internal slots_[4]{};  // current, previous, shadow, scratch
+  S side_;  ///< steps the side slots (its counters and flags are not the trajectory's)
+  Internal slots_[4]{};  ///< current, previous, shadow, scratch
   const Internal* event_ = nullptr;
   static constexpr MethodTraits traits_ = S::traits;
 };
 
-// An Integrator for stepper S built from args (S's constructor arguments: a problem and StepperOptions, …).
+/// An Integrator for stepper S built from args (S's constructor arguments: a problem and StepperOptions, …).
 template <class S, class... Args>
 std::unique_ptr<Integrator> make_integrator(Args&&... args) {
   return std::make_unique<IntegratorOf<S>>(std::forward<Args>(args)...);

@@ -1,15 +1,16 @@
-// lgi/core/scalar.hpp — what every numeric template in lgi assumes about its scalar.
-//
-// Everything numeric in lgi is a template on the scalar T, so that automatic-differentiation types
-// (ceres::Jet) flow through every map and integrator. The core never includes Ceres: a scalar is
-// recognised by duck typing. Branches that depend on the size of a quantity (small-angle Taylor
-// branches, Newton convergence tests) read the *value part* through `value_of`, so the branch taken
-// is the same for a Jet as for its double value.
-//
-// Three kinds of scalar: the arithmetic types (float, double, long double); ceres::Jet (a value part x.a
-// and derivatives x.v); and a real class type without derivatives that has std::numeric_limits and finds
-// its sqrt, sin, atan2, isfinite … by argument-dependent lookup (boost::multiprecision::float128 in
-// tests/integrators/test_quad_order.cpp, which runs the RKMK methods in quad precision). The core includes neither.
+/// \file
+/// lgi/core/scalar.hpp — what every numeric template in lgi assumes about its scalar.
+///
+/// Everything numeric in lgi is a template on the scalar T, so that automatic-differentiation types
+/// (ceres::Jet) flow through every map and integrator. The core never includes Ceres: a scalar is
+/// recognised by duck typing. Branches that depend on the size of a quantity (small-angle Taylor
+/// branches, Newton convergence tests) read the *value part* through `value_of`, so the branch taken
+/// is the same for a Jet as for its double value.
+///
+/// Three kinds of scalar: the arithmetic types (float, double, long double); ceres::Jet (a value part x.a
+/// and derivatives x.v); and a real class type without derivatives that has std::numeric_limits and finds
+/// its sqrt, sin, atan2, isfinite … by argument-dependent lookup (boost::multiprecision::float128 in
+/// tests/integrators/test_quad_order.cpp, which runs the RKMK methods in quad precision). The core includes neither.
 #pragma once
 
 #include <Eigen/Core>
@@ -45,10 +46,13 @@
 #define LGI_DISPATCH_CLONES 1
 #endif
 
+/// Lie-group integrators for rigid bodies: the state on SO(3) × R³, problems, steppers, drivers, fitting.
 namespace lgi {
 
+/// A fixed-size column 3-vector of scalar T (angular velocity, momentum, a body or laboratory axis).
 template <class T>
 using Vec3 = Eigen::Matrix<T, 3, 1>;
+/// A fixed-size 3×3 matrix of scalar T (an attitude, an inertia tensor), column-major as Eigen's default.
 template <class T>
 using Mat3 = Eigen::Matrix<T, 3, 3>;
 
@@ -60,8 +64,8 @@ inline constexpr bool is_real_class_v =
     !std::is_arithmetic_v<T> && std::numeric_limits<T>::is_specialized && !requires(const T& x) { x.a; };
 }  // namespace detail
 
-// The value part of a scalar: x itself for arithmetic types and real class types, x.a (recursively) for
-// ceres::Jet.
+/// The value part of a scalar: x itself for arithmetic types and real class types, x.a (recursively) for
+/// ceres::Jet.
 template <class T>
 constexpr auto value_of(const T& x) {
   if constexpr (std::is_arithmetic_v<T>) {
@@ -76,12 +80,12 @@ constexpr auto value_of(const T& x) {
   }
 }
 
-// True when T carries derivative parts (Jets): Newton loops then take one extra iteration so that
-// the derivative part converges too (implicit function theorem), see NUMERICS.md "Traps".
+/// True when T carries derivative parts (Jets): Newton loops then take one extra iteration so that
+/// the derivative part converges too (implicit function theorem), see NUMERICS.md "Traps".
 template <class T>
 inline constexpr bool is_dual_v = !std::is_arithmetic_v<T> && !detail::is_real_class_v<T>;
 
-// Every component finite, value and derivative parts alike (ceres::isfinite checks only the value).
+/// Every component finite, value and derivative parts alike (ceres::isfinite checks only the value).
 template <class T>
 bool all_finite(const T& x) {
   if constexpr (std::is_arithmetic_v<T>) {
@@ -100,8 +104,8 @@ bool all_finite(const T& x) {
   }
 }
 
-// True when x is exactly zero, derivative parts of Jets included: a structural zero that a fast path
-// may drop without losing a derivative.
+/// True when x is exactly zero, derivative parts of Jets included: a structural zero that a fast path
+/// may drop without losing a derivative.
 template <class T>
 bool is_exact_zero(const T& x) {
   if constexpr (std::is_arithmetic_v<T>)
@@ -112,9 +116,10 @@ bool is_exact_zero(const T& x) {
     return value_of(x) == 0;
 }
 
-// The arithmetic type under T (double for ceres::Jet<double, N>) and its machine epsilon.
+/// The arithmetic type under T (double for `ceres::Jet<double, N>`) and its machine epsilon.
 template <class T>
 using value_type_t = decltype(value_of(std::declval<T>()));
+/// The machine epsilon of `value_type_t<T>` (2⁻⁵² for double and Jets of double).
 template <class T>
 inline constexpr value_type_t<T> epsilon_v = std::numeric_limits<value_type_t<T>>::epsilon();
 

@@ -1,44 +1,49 @@
-// lgi/core/so3.hpp — the rotation group SO(3) and its Lie algebra so(3) ≅ R³.
-//
-// Representation. A rotation is a plain 3×3 matrix R (Mat3<T>), body → laboratory: its columns are the
-// body axes in laboratory coordinates. Nothing here re-orthonormalises; every map below returns a matrix
-// orthogonal to round-off (‖RᵀR − I‖_F of a few ulps) when its input is. Integrators update an attitude
-// as R + R·(F − I), with the increment F − I formed without the 1 (rodrigues_increment, exp_increment):
-// the rounding of 1 − O(θ²) on F's diagonal repeats identically every step when θ is small and steady,
-// and would add up to a drift linear in the number of steps (docs/findings.md); without it the departure
-// from SO(3) is a random walk of round-off, ≈ √n·ε after n steps.
-//
-// Conventions (right trivialisation: body velocities, updates R·Exp(u)):
-//   hat(ω) v = ω × v,                               vee(hat(ω)) = ω
-//   exp(ω)   = I + A hat(ω) + B hat(ω)²             A = sin θ/θ, B = (1 − cos θ)/θ², θ = |ω|   (Rodrigues)
-//   log(R)   = ω with exp(ω) = R, θ ∈ [0, π]
-//   exp(ω + δ) = exp(ω) exp(J_r(ω) δ + O(δ²))        right Jacobian
-//   J_r(ω)   = I − B hat(ω) + C hat(ω)²              C = (θ − sin θ)/θ³
-//   J_r⁻¹(ω) = I + ½ hat(ω) + D hat(ω)²              D = 1/θ² − (1 + cos θ)/(2θ sin θ)
-//            = Σ_k B_k/k! (−ad_ω)^k (Bernoulli numbers B_k, B_1 = −½), singular at θ = 2π
-//   J_l(ω)   = J_r(−ω) = exp(ω) J_r(ω)
-//   cay(ω)   = (I − ½hat(ω))⁻¹(I + ½hat(ω)) = I + 4/(4 + θ²) (hat(ω) + ½ hat(ω)²)
-// References: Solà, Deray, Atchuthan, "A micro Lie theory for state estimation in robotics",
-// arXiv:1812.01537, App. B: eq. (132) Exp (Rodrigues), (133) Log, (143)–(146) J_r, J_r⁻¹, J_l, J_l⁻¹;
-// Hairer, Lubich, Wanner, Geometric Numerical Integration, 2nd ed. (2006), Lemma III.4.2 (dexp⁻¹ as a
-// Bernoulli series), §IV.8.3 Lemma 8.7 (Cayley map).
-//
-// exp's coefficients A = sin θ/θ, B = 2 (sin(θ/2)/θ)²: θ² < 1e-2, Taylor polynomials in θ²; 1e-2 ≤ θ² and
-// θ ≤ π, with core/trig.hpp's polynomial sin (deterministic + − ×, so that a vector kernel computes the same
-// bits: integrators/batch_rkmk.hpp) for double and Jets of double; θ > π, and other scalars (long double
-// references, float), with libm's sin. The Jacobians, log and tan below use libm.
-//
-// Scalars. Every function is a template on T and correct for ceres::Jet: the coefficients A…D are
-// Taylor polynomials in θ² (never sqrt or division at θ = 0) below a threshold where the polynomial is
-// exact to round-off in value *and* first derivative; log takes the angle with atan2, switches to the
-// symmetric part of R for θ > π/2 (robust near π), and uses a series in sin²θ near the identity.
+/// \file
+/// lgi/core/so3.hpp — the rotation group SO(3) and its Lie algebra so(3) ≅ R³.
+///
+/// Representation. A rotation is a plain 3×3 matrix R (`Mat3<T>`), body → laboratory: its columns are the
+/// body axes in laboratory coordinates. Nothing here re-orthonormalises; every map below returns a matrix
+/// orthogonal to round-off (‖RᵀR − I‖_F of a few ulps) when its input is. Integrators update an attitude
+/// as R + R·(F − I), with the increment F − I formed without the 1 (rodrigues_increment, exp_increment):
+/// the rounding of 1 − O(θ²) on F's diagonal repeats identically every step when θ is small and steady,
+/// and would add up to a drift linear in the number of steps (docs/findings.md); without it the departure
+/// from SO(3) is a random walk of round-off, ≈ √n·ε after n steps.
+///
+/// Conventions (right trivialisation: body velocities, updates R·Exp(u)):
+/// ~~~{.unparsed}
+///   hat(ω) v = ω × v,                               vee(hat(ω)) = ω
+///   exp(ω)   = I + A hat(ω) + B hat(ω)²             A = sin θ/θ, B = (1 − cos θ)/θ², θ = |ω|   (Rodrigues)
+///   log(R)   = ω with exp(ω) = R, θ ∈ [0, π]
+///   exp(ω + δ) = exp(ω) exp(J_r(ω) δ + O(δ²))        right Jacobian
+///   J_r(ω)   = I − B hat(ω) + C hat(ω)²              C = (θ − sin θ)/θ³
+///   J_r⁻¹(ω) = I + ½ hat(ω) + D hat(ω)²              D = 1/θ² − (1 + cos θ)/(2θ sin θ)
+///            = Σ_k B_k/k! (−ad_ω)^k (Bernoulli numbers B_k, B_1 = −½), singular at θ = 2π
+///   J_l(ω)   = J_r(−ω) = exp(ω) J_r(ω)
+///   cay(ω)   = (I − ½hat(ω))⁻¹(I + ½hat(ω)) = I + 4/(4 + θ²) (hat(ω) + ½ hat(ω)²)
+/// ~~~
+/// References: Solà, Deray, Atchuthan, "A micro Lie theory for state estimation in robotics",
+/// arXiv:1812.01537, App. B: eq. (132) Exp (Rodrigues), (133) Log, (143)–(146) J_r, J_r⁻¹, J_l, J_l⁻¹;
+/// Hairer, Lubich, Wanner, Geometric Numerical Integration, 2nd ed. (2006), Lemma III.4.2 (dexp⁻¹ as a
+/// Bernoulli series), §IV.8.3 Lemma 8.7 (Cayley map).
+///
+/// exp's coefficients A = sin θ/θ, B = 2 (sin(θ/2)/θ)²: θ² < 1e-2, Taylor polynomials in θ²; 1e-2 ≤ θ² and
+/// θ ≤ π, with core/trig.hpp's polynomial sin (deterministic + − ×, so that a vector kernel computes the same
+/// bits: integrators/batch_rkmk.hpp) for double and Jets of double; θ > π, and other scalars (long double
+/// references, float), with libm's sin. The Jacobians, log and tan below use libm.
+///
+/// Scalars. Every function is a template on T and correct for ceres::Jet: the coefficients A…D are
+/// Taylor polynomials in θ² (never sqrt or division at θ = 0) below a threshold where the polynomial is
+/// exact to round-off in value *and* first derivative; log takes the angle with atan2, switches to the
+/// symmetric part of R for θ > π/2 (robust near π), and uses a series in sin²θ near the identity.
 #pragma once
 
 #include "scalar.hpp"
 #include "trig.hpp"
 
+/// SO(3) and so(3) ≅ R³: hat/vee, exp/log, the right and left Jacobians, the Cayley map (this header's equations).
 namespace lgi::so3 {
 
+/// The skew-symmetric matrix of w: hat(w) v = w × v for every v. Exact (no rounding), any scalar.
 template <class T>
 Mat3<T> hat(const Vec3<T>& w) {
   Mat3<T> W;
@@ -48,14 +53,14 @@ Mat3<T> hat(const Vec3<T>& w) {
   return W;
 }
 
-// The axial vector of the antisymmetric part: vee(M) = vee(½(M − Mᵀ)); exact inverse of hat.
+/// The axial vector of the antisymmetric part: vee(M) = vee(½(M − Mᵀ)); exact inverse of hat.
 template <class T>
 Vec3<T> vee(const Mat3<T>& M) {
   return Vec3<T>(M(2, 1) - M(1, 2), M(0, 2) - M(2, 0), M(1, 0) - M(0, 1)) * T(0.5);
 }
 
-// θ² below which the coefficients are evaluated by their Taylor polynomials. At θ² = 1e-2 the
-// truncated series below are exact to < 1e-18 relative in value and < 1e-15 in d/dθ².
+/// θ² below which the coefficients are evaluated by their Taylor polynomials. At θ² = 1e-2 the
+/// truncated series below are exact to < 1e-18 relative in value and < 1e-15 in d/dθ².
 inline constexpr double small_angle_theta2 = 1e-2;
 
 namespace detail {
@@ -68,12 +73,12 @@ T horner(const T& x, const double (&c)[N]) {
 }
 }  // namespace detail
 
-// Coefficients of the Rodrigues formula and of the Jacobians, computed once and shared.
+/// Coefficients of the Rodrigues formula and of the Jacobians, computed once and shared.
 template <class T>
 struct Coefficients {
-  T theta2;  // θ² = ω·ω
-  T A;       // sin θ / θ
-  T B;       // (1 − cos θ)/θ²
+  T theta2;  ///< θ² = ω·ω
+  T A;       ///< sin θ / θ
+  T B;       ///< (1 − cos θ)/θ²
 };
 
 namespace detail {
@@ -99,6 +104,9 @@ template <class T>
 }
 }  // namespace detail
 
+/// A = sin θ/θ and B = (1 − cos θ)/θ² of w (θ = |w|), with θ² itself: Taylor polynomials in θ² below
+/// small_angle_theta2, the polynomial sin of core/trig.hpp up to θ = π for double-valued scalars, libm beyond.
+/// Finite for every finite w, accurate to a few ulps.
 template <class T>
 Coefficients<T> exp_coefficients(const Vec3<T>& w) {
   const T theta2 = w.squaredNorm();
@@ -108,9 +116,9 @@ Coefficients<T> exp_coefficients(const Vec3<T>& w) {
   return detail::exp_coefficients_trig(theta2);
 }
 
-// A hat(w) + B hat(w)², built entry by entry with hat(w)² = w wᵀ − |w|² I (no 3×3 product): the
-// increment F − I of F = I + A hat(w) + B hat(w)², without forming the 1 (see the header). exp
-// (A = sin θ/θ, B = (1 − cos θ)/θ²) and the Cayley map (A = 2B = 4/(4 + θ²)) are of this form.
+/// A hat(w) + B hat(w)², built entry by entry with hat(w)² = w wᵀ − |w|² I (no 3×3 product): the
+/// increment F − I of F = I + A hat(w) + B hat(w)², without forming the 1 (see the header). exp
+/// (A = sin θ/θ, B = (1 − cos θ)/θ²) and the Cayley map (A = 2B = 4/(4 + θ²)) are of this form.
 template <class T>
 Mat3<T> rodrigues_increment(const Vec3<T>& w, const T& A, const T& B) {
   const T bx = B * w.x(), by = B * w.y(), bz = B * w.z();
@@ -124,15 +132,15 @@ Mat3<T> rodrigues_increment(const Vec3<T>& w, const T& A, const T& B) {
   return D;
 }
 
-// v + A w × v + B w × (w × v): the product (I + A hat(w) + B hat(w)²) v without forming the matrix.
-// exp(ω)ᵀ v = exp(−ω) v is rotate(ω, −A, B, v).
+/// v + A w × v + B w × (w × v): the product (I + A hat(w) + B hat(w)²) v without forming the matrix.
+/// exp(ω)ᵀ v = exp(−ω) v is rotate(ω, −A, B, v).
 template <class T>
 Vec3<T> rotate(const Vec3<T>& w, const T& A, const T& B, const Vec3<T>& v) {
   const Vec3<T> wv = w.cross(v);
   return v + A * wv + B * w.cross(wv);
 }
 
-// I + A hat(w) + B hat(w)².
+/// I + A hat(w) + B hat(w)².
 template <class T>
 Mat3<T> rodrigues(const Vec3<T>& w, const T& A, const T& B) {
   Mat3<T> R = rodrigues_increment(w, A, B);
@@ -140,21 +148,24 @@ Mat3<T> rodrigues(const Vec3<T>& w, const T& A, const T& B) {
   return R;
 }
 
-// exp: so(3) → SO(3), Rodrigues' formula.
+/// exp: so(3) → SO(3), Rodrigues' formula. Any finite w (θ = |w| in radians, any size); the result is
+/// orthogonal to round-off.
 template <class T>
 Mat3<T> exp(const Vec3<T>& w) {
   const Coefficients<T> k = exp_coefficients(w);
   return rodrigues(w, k.A, k.B);
 }
 
-// exp(w) − I, for updates R + R·(exp(w) − I) (see the header).
+/// exp(w) − I, for updates R + R·(exp(w) − I) (see the header).
 template <class T>
 Mat3<T> exp_increment(const Vec3<T>& w) {
   const Coefficients<T> k = exp_coefficients(w);
   return rodrigues_increment(w, k.A, k.B);
 }
 
-// log: SO(3) → so(3), the principal logarithm (θ ∈ [0, π]). At θ = π exactly, either of ±π·n is returned.
+/// log: SO(3) → so(3), the principal logarithm (θ ∈ [0, π]). At θ = π exactly, either of ±π·n is returned.
+/// R must be a rotation to round-off; for other matrices the result means nothing (it may be NaN) and no error is
+/// reported.
 template <class T>
 Vec3<T> log(const Mat3<T>& R) {
   using std::atan2;
@@ -183,9 +194,9 @@ Vec3<T> log(const Mat3<T>& R) {
   return atan2(n.dot(v), c) * n;  // either sign of n gives θ·axis: atan2(−s, c)(−n) = atan2(s, c) n
 }
 
-// D(θ²) = 1/θ² − (1 + cos θ)/(2θ sin θ), the coefficient of hat(ω)² in J_r⁻¹. Just above the Taylor
-// threshold the closed form loses ~3 digits to cancellation (relative error ≤ 6e-14 near θ² = 2e-2);
-// J_r⁻¹ multiplies it by hat(ω)² = O(θ²), so J_r⁻¹ itself stays accurate to round-off.
+/// D(θ²) = 1/θ² − (1 + cos θ)/(2θ sin θ), the coefficient of hat(ω)² in J_r⁻¹. Just above the Taylor
+/// threshold the closed form loses ~3 digits to cancellation (relative error ≤ 6e-14 near θ² = 2e-2);
+/// J_r⁻¹ multiplies it by hat(ω)² = O(θ²), so J_r⁻¹ itself stays accurate to round-off.
 template <class T>
 T jacobian_inverse_coefficient(const T& theta2) {
   using std::sin;
@@ -200,7 +211,7 @@ T jacobian_inverse_coefficient(const T& theta2) {
   return (T(1) - (theta / T(2)) / tan(theta / T(2))) / theta2;
 }
 
-// Right Jacobian J_r(ω): exp(ω + δ) = exp(ω) exp(J_r(ω) δ) to first order in δ.
+/// Right Jacobian J_r(ω): exp(ω + δ) = exp(ω) exp(J_r(ω) δ) to first order in δ.
 template <class T>
 Mat3<T> right_jacobian(const Vec3<T>& w) {
   using std::sin;
@@ -224,7 +235,7 @@ Mat3<T> right_jacobian(const Vec3<T>& w) {
   return J;
 }
 
-// Inverse right Jacobian J_r⁻¹(ω) (closed form, valid for θ < 2π).
+/// Inverse right Jacobian J_r⁻¹(ω) (closed form, valid for θ < 2π).
 template <class T>
 Mat3<T> right_jacobian_inverse(const Vec3<T>& w) {
   const Mat3<T> W = hat(w);
@@ -233,17 +244,19 @@ Mat3<T> right_jacobian_inverse(const Vec3<T>& w) {
   return J;
 }
 
-// Left Jacobian J_l(ω) = J_r(−ω): exp(ω + δ) = exp(J_l(ω) δ) exp(ω) to first order.
+/// Left Jacobian J_l(ω) = J_r(−ω): exp(ω + δ) = exp(J_l(ω) δ) exp(ω) to first order.
 template <class T>
 Mat3<T> left_jacobian(const Vec3<T>& w) {
   return right_jacobian(Vec3<T>(-w));
 }
 
-// J_r⁻¹(u) v truncated after the ad_u^K term: Σ_{k≤K} B_k/k! (−ad_u)^k v
-//   = v + ½ u×v + (1/12) u×(u×v) − (1/720) ad_u⁴ v + (1/30240) ad_u⁶ v − (1/1209600) ad_u⁸ v.
-// An RKMK method of order p needs K = p − 2 (Hairer–Lubich–Wanner, Theorem IV.8.5; Munthe-Kaas,
-// Appl. Numer. Math. 29 (1999) 115);
-// the truncated series is a polynomial: no trigonometric functions, exact for Jets.
+/// J_r⁻¹(u) v truncated after the ad_u^K term: Σ_{k≤K} B_k/k! (−ad_u)^k v
+/// ~~~{.unparsed}
+///   = v + ½ u×v + (1/12) u×(u×v) − (1/720) ad_u⁴ v + (1/30240) ad_u⁶ v − (1/1209600) ad_u⁸ v.
+/// ~~~
+/// An RKMK method of order p needs K = p − 2 (Hairer–Lubich–Wanner, Theorem IV.8.5; Munthe-Kaas,
+/// Appl. Numer. Math. 29 (1999) 115);
+/// the truncated series is a polynomial: no trigonometric functions, exact for Jets.
 template <int K, class T>
 Vec3<T> right_jacobian_inverse_series(const Vec3<T>& u, const Vec3<T>& v) {
   static_assert(K >= 0 && K <= 8, "right_jacobian_inverse_series: K in [0, 8]");
@@ -259,36 +272,40 @@ Vec3<T> right_jacobian_inverse_series(const Vec3<T>& u, const Vec3<T>& v) {
   return r;
 }
 
-// Cayley map and its inverse (defined for θ < π).
+/// Cayley map and its inverse (defined for θ < π).
+/// cay(w) = I + 4/(4 + θ²) (hat(w) + ½ hat(w)²): a rotation by 2 atan(θ/2) < π about w, for every finite w,
+/// orthogonal to round-off; rational, no trigonometric function.
 template <class T>
 Mat3<T> cayley(const Vec3<T>& w) {
   const T A = T(4) / (T(4) + w.squaredNorm());
   return rodrigues(w, A, T(0.5) * A);
 }
 
+/// cay⁻¹(R) = 4 vee(R)/(1 + tr R), for a rotation R by an angle below π (at π, 1 + tr R = 0: the result is not
+/// finite). R must be a rotation to round-off.
 template <class T>
 Vec3<T> cayley_inverse(const Mat3<T>& R) {
   return (T(4) / (T(1) + R.trace())) * vee(R);  // 2 vee(R − Rᵀ)/(1 + tr R)
 }
 
-// cay(w) − I, for updates R + R·(cay(w) − I) (see the header on the rounding of increments).
+/// cay(w) − I, for updates R + R·(cay(w) − I) (see the header on the rounding of increments).
 template <class T>
 Mat3<T> cayley_increment(const Vec3<T>& w) {
   const T A = T(4) / (T(4) + w.squaredNorm());
   return rodrigues_increment(w, A, T(0.5) * A);
 }
 
-// The right-trivialised inverse differential of the Cayley map: with R(t) = R₀ cay(u(t)) and the body
-// velocity Ω (R' = R hat(Ω)),  u' = dcay⁻¹_u(Ω) = Ω + ½ u × Ω + ¼ (u·Ω) u  — exact and polynomial, where the
-// exponential's J_r⁻¹ is a series (HLW §IV.8.3, dcay⁻¹_C(H) = (I − C/2) H (I + C/2), in vector form;
-// tests/core/test_so3.cpp differentiates cayley_inverse to check it).
+/// The right-trivialised inverse differential of the Cayley map: with R(t) = R₀ cay(u(t)) and the body
+/// velocity Ω (R' = R hat(Ω)),  u' = dcay⁻¹_u(Ω) = Ω + ½ u × Ω + ¼ (u·Ω) u  — exact and polynomial, where the
+/// exponential's J_r⁻¹ is a series (HLW §IV.8.3, dcay⁻¹_C(H) = (I − C/2) H (I + C/2), in vector form;
+/// tests/core/test_so3.cpp differentiates cayley_inverse to check it).
 template <class T>
 Vec3<T> cayley_right_jacobian_inverse(const Vec3<T>& u, const Vec3<T>& v) {
   return v + T(0.5) * u.cross(v) + (T(0.25) * u.dot(v)) * u;
 }
 
-// ‖RᵀR − I‖_F: distance from orthogonality. A diagnostic: with Jets its derivative at an exactly
-// orthogonal R is NaN (the Frobenius norm is not differentiable at 0).
+/// ‖RᵀR − I‖_F: distance from orthogonality. A diagnostic: with Jets its derivative at an exactly
+/// orthogonal R is NaN (the Frobenius norm is not differentiable at 0).
 template <class T>
 T orthogonality_error(const Mat3<T>& R) {
   Mat3<T> E = R.transpose() * R;

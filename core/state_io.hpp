@@ -1,12 +1,13 @@
-// lgi/core/state_io.hpp — the numbers of a stepper's internal state, in a fixed order: what a checkpoint saves and
-// restores bit for bit, and what the engine (core/engine.hpp) copies across its boundary.
-//
-// A state type lists its members in its body with LGI_NUMBERS(member, …); fixed-size Eigen matrices (their
-// coefficients in data() order, column-major), arithmetic scalars and such listed types nested are the leaves.
-// visit_numbers(y, f) calls f on every number of y in that order (f(double&), or f(const double&) for a const y);
-// number_count<Y>() is their count, at compile time. For Y with double scalars, numbers_complete<Y>() says that
-// they are all of Y (its size is their size, rounded up to its alignment): a member left out of LGI_NUMBERS would
-// make it false, and the engine refuses such a type at compile time.
+/// \file
+/// lgi/core/state_io.hpp — the numbers of a stepper's internal state, in a fixed order: what a checkpoint saves and
+/// restores bit for bit, and what the engine (core/engine.hpp) copies across its boundary.
+///
+/// A state type lists its members in its body with LGI_NUMBERS(member, …); fixed-size Eigen matrices (their
+/// coefficients in data() order, column-major), arithmetic scalars and such listed types nested are the leaves.
+/// visit_numbers(y, f) calls f on every number of y in that order (f(double&), or f(const double&) for a const y);
+/// `number_count<Y>()` is their count, at compile time. For Y with double scalars, `numbers_complete<Y>()` says that
+/// they are all of Y (its size is their size, rounded up to its alignment): a member left out of LGI_NUMBERS would
+/// make it false, and the engine refuses such a type at compile time.
 #pragma once
 
 #include <Eigen/Core>
@@ -16,7 +17,7 @@
 #include <type_traits>
 #include <utility>
 
-// Inside a struct: its members that carry numbers, in the order they are saved.
+/// Inside a struct: its members that carry numbers, in the order they are saved.
 #define LGI_NUMBERS(...)                                       \
   auto numbers() { return std::tie(__VA_ARGS__); }             \
   auto numbers() const { return std::tie(__VA_ARGS__); }
@@ -30,6 +31,8 @@ template <class Y>
 concept ListedNumbers = requires(Y& y) { y.numbers(); };
 }  // namespace detail
 
+/// The count of Y's numbers (the header's order), at compile time. Y: an arithmetic type, a fixed-size Eigen matrix,
+/// or a type with LGI_NUMBERS (a static_assert names a type without it).
 template <class Y>
 constexpr std::size_t number_count() {
   using U = std::remove_cvref_t<Y>;
@@ -46,6 +49,8 @@ constexpr std::size_t number_count() {
   }
 }
 
+/// Calls f on every number of y, in the header's order: f(double&) (f(const double&) for a const y) for double
+/// scalars; `number_count<Y>()` calls in all. Allocates nothing; f may write through its argument.
 template <class Y, class F>
 void visit_numbers(Y& y, F&& f) {
   using U = std::remove_cvref_t<Y>;
@@ -58,7 +63,7 @@ void visit_numbers(Y& y, F&& f) {
   }
 }
 
-// True when Y's numbers are all of it: sizeof(Y) is their size rounded up to Y's alignment (double scalars).
+/// True when Y's numbers are all of it: sizeof(Y) is their size rounded up to Y's alignment (double scalars).
 template <class Y>
 constexpr bool numbers_complete() {
   return sizeof(Y) == (number_count<Y>() * sizeof(double) + alignof(Y) - 1) / alignof(Y) * alignof(Y);

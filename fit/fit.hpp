@@ -1,22 +1,23 @@
-// lgi/fit/fit.hpp — fit initial conditions and body parameters to observations, or find periodic orbits, by
-// nonlinear least squares (Ceres) with derivatives through the integrator itself.
-//
-// Observations (fit/observations.hpp): minimise ½ Σ_i ρ_i(|r_i(θ)/σ_i|²) over the unknowns θ
-// (fit/model.hpp), r_i the tangent-space error of observation i against the trajectory integrated by the
-// chosen method with fixed step dt from (R0, Ω0). Levenberg–Marquardt (Ceres' trust region), dense QR.
-//
-// Uncertainty. With residuals whitened by their standard deviations the covariance of the estimate is, to
-// first order, C = (JᵀJ)⁻¹ with J the Jacobian of the whitened residuals in the tangent space of the unknowns
-// at the solution (Ceres, include/ceres/covariance.h: "the covariance ... is given by C(x*) = (J'(x*)J(x*))⁻¹";
-// Triggs-corrected J where robust losses are used). It is computed by ceres::Covariance (dense SVD; a Jacobian
-// whose σ_min/σ_max < 1e-7 is rank deficient — an unidentifiable combination, such as the scale of the
-// inertia of a free body — and yields no covariance, and the fit is reported not usable). Standard deviations
-// are √C_kk; correlations C_kl/√(C_kk C_ll). For R0 the coordinates are δ in R̂0 Exp(δ) (radians about the
-// body axes); for the moments, I_k = exp(ℓ_k) and C is mapped by the delta method, σ(I_k) = I_k σ(ℓ_k).
-// The residual scale is not re-estimated: the σ's given with the observations are taken as true.
-//
-// Periodic orbits: solve r(θ) = 0 for the periodicity residual (fit/model.hpp, PeriodicSymmetry), with the
-// period T among the unknowns when listed ("period"; the step is T/steps) and the phase φ for heavy tops.
+/// \file
+/// lgi/fit/fit.hpp — fit initial conditions and body parameters to observations, or find periodic orbits, by
+/// nonlinear least squares (Ceres) with derivatives through the integrator itself.
+///
+/// Observations (fit/observations.hpp): minimise ½ Σ_i ρ_i(|r_i(θ)/σ_i|²) over the unknowns θ
+/// (fit/model.hpp), r_i the tangent-space error of observation i against the trajectory integrated by the
+/// chosen method with fixed step dt from (R0, Ω0). Levenberg–Marquardt (Ceres' trust region), dense QR.
+///
+/// Uncertainty. With residuals whitened by their standard deviations the covariance of the estimate is, to
+/// first order, C = (JᵀJ)⁻¹ with J the Jacobian of the whitened residuals in the tangent space of the unknowns
+/// at the solution (Ceres, include/ceres/covariance.h: "the covariance ... is given by C(x*) = (J'(x*)J(x*))⁻¹";
+/// Triggs-corrected J where robust losses are used). It is computed by ceres::Covariance (dense SVD; a Jacobian
+/// whose σ_min/σ_max < 1e-7 is rank deficient — an unidentifiable combination, such as the scale of the
+/// inertia of a free body — and yields no covariance, and the fit is reported not usable). Standard deviations
+/// are √C_kk; correlations C_kl/√(C_kk C_ll). For R0 the coordinates are δ in R̂0 Exp(δ) (radians about the
+/// body axes); for the moments, I_k = exp(ℓ_k) and C is mapped by the delta method, σ(I_k) = I_k σ(ℓ_k).
+/// The residual scale is not re-estimated: the σ's given with the observations are taken as true.
+///
+/// Periodic orbits: solve r(θ) = 0 for the periodicity residual (fit/model.hpp, PeriodicSymmetry), with the
+/// period T among the unknowns when listed ("period"; the step is T/steps) and the phase φ for heavy tops.
 #pragma once
 
 #include "model.hpp"
@@ -37,90 +38,103 @@
 
 namespace lgi::fit {
 
+/// The solver's limits and tolerances (Ceres' Levenberg–Marquardt, dense QR).
 struct SolverOptions {
-  int max_iterations = 100;
-  double function_tolerance = 1e-14;   // Ceres: stop when |Δcost|/cost < this
-  double gradient_tolerance = 1e-14;   // Ceres: stop when the projected gradient's max norm < this
-  double parameter_tolerance = 1e-12;  // Ceres: stop when |Δθ| < this (|θ| + this)
-  int num_threads = 1;
-  bool progress = false;               // Ceres' per-iteration table on stdout
-  // A wall-clock budget for the whole fit (continuation stages included), seconds; 0: none. When it is spent the
-  // integration under way stops within 1024 steps, the solver stops, and the result is not usable
-  // (FitResult::budget_exhausted).
+  int max_iterations = 100;            ///< Ceres' iterations (successful and not) at most
+  double function_tolerance = 1e-14;   ///< Ceres: stop when |Δcost|/cost < this
+  double gradient_tolerance = 1e-14;   ///< Ceres: stop when the projected gradient's max norm < this
+  double parameter_tolerance = 1e-12;  ///< Ceres: stop when |Δθ| < this (|θ| + this)
+  int num_threads = 1;                 ///< Ceres' threads for residual and Jacobian evaluations
+  bool progress = false;               ///< Ceres' per-iteration table on stdout
+  /// A wall-clock budget for the whole fit (continuation stages included), seconds; 0: none. When it is spent the
+  /// integration under way stops within 1024 steps, the solver stops, and the result is not usable
+  /// (FitResult::budget_exhausted).
   double max_seconds = 0;
 };
 
+/// The options of fit_observations: the integration, the solver, the covariance and the acceptance test.
 struct FitOptions {
-  double dt = 0;           // the integrator's fixed step (scene: integrator.dt)
-  double t_end = -1;       // observations must lie in [0, t_end] (scene: t_end); < 0: no limit
-  StepperOptions stepper;  // the integrator's options (Newton tolerance, ...); rtol/atol must be 0
-  SolverOptions solver;
-  bool compute_covariance = true;
-  // Goodness of fit: with observations that carry their true σ and a model that explains them, χ² = Σ (r/σ)² at
-  // the solution follows a χ² distribution with ν = residuals − free coordinates degrees of freedom. The fit is
-  // usable only if P(χ²_ν ≥ χ²) ≥ min_p_value (FitResult::p_value; the test is not applied with robust losses or
-  // when ν ≤ 0). 0 turns the test off.
+  double dt = 0;           ///< the integrator's fixed step (scene: integrator.dt)
+  double t_end = -1;       ///< observations must lie in [0, t_end] (scene: t_end); < 0: no limit
+  StepperOptions stepper;  ///< the integrator's options (Newton tolerance, ...); rtol/atol must be 0
+  SolverOptions solver;            ///< the solver's limits and tolerances
+  bool compute_covariance = true;  ///< compute FitResult::covariance; then a rank-deficient fit is not usable
+  /// Goodness of fit: with observations that carry their true σ and a model that explains them, χ² = Σ (r/σ)² at
+  /// the solution follows a χ² distribution with ν = residuals − free coordinates degrees of freedom. The fit is
+  /// usable only if P(χ²_ν ≥ χ²) ≥ min_p_value (FitResult::p_value; the test is not applied with robust losses or
+  /// when ν ≤ 0). 0 turns the test off.
   double min_p_value = 1e-3;
-  // Horizon continuation: fit first the observations with t ≤ f·t_last for each f here (increasing, in (0, 1)),
-  // each stage starting from the previous one's estimate, then all of them. A fast-spinning body observed over
-  // many turns has a cost with many local minima in Ω0 and the inertia; a short horizon has few.
+  /// Horizon continuation: fit first the observations with t ≤ f·t_last for each f here (increasing, in (0, 1)),
+  /// each stage starting from the previous one's estimate, then all of them. A fast-spinning body observed over
+  /// many turns has a cost with many local minima in Ω0 and the inertia; a short horizon has few.
   std::vector<double> continuation;
 };
 
+/// The options of fit_periodic.
 struct PeriodicOptions {
-  int steps = 1000;        // steps over one period: h = T/steps
-  PeriodicSymmetry symmetry = PeriodicSymmetry::automatic;
-  double tolerance = 1e-10;  // usable when max |r| ≤ tolerance
-  StepperOptions stepper;
-  // A zero residual is the goal: stop on the step size, not on the relative decrease of a cost near 0.
+  int steps = 1000;        ///< steps over one period: h = T/steps
+  PeriodicSymmetry symmetry = PeriodicSymmetry::automatic;  ///< what "returns to itself" means
+  double tolerance = 1e-10;  ///< usable when max |r| ≤ tolerance
+  StepperOptions stepper;    ///< the integrator's options (fixed steps: rtol = atol = 0)
+  /// A zero residual is the goal: stop on the step size, not on the relative decrease of a cost near 0.
   SolverOptions solver{.max_iterations = 100, .function_tolerance = 1e-30, .gradient_tolerance = 1e-30,
                        .parameter_tolerance = 1e-16};
 };
 
-// One fitted unknown, under its scene name.
+/// One fitted unknown, under its scene name.
 struct FittedValue {
-  std::string name;
-  std::vector<double> value;  // initial.R: 9 entries row by row (R11, R12, ..., R33); problem.z0: 3
-  std::vector<double> sigma;  // standard deviations, one per tangent coordinate (initial.R: 3, rad, about the
-                              // body axes; problem.z0: 2, rad, in the basis s2_basis(z0)); 0 for fixed ones
-  std::vector<bool> free;     // per tangent coordinate
+  std::string name;           ///< the unknown's scene name
+  std::vector<double> value;  ///< initial.R: 9 entries row by row (R11, R12, ..., R33); problem.z0: 3
+  std::vector<double> sigma;  ///< standard deviations, one per tangent coordinate (initial.R: 3, rad, about the
+                              ///< body axes; problem.z0: 2, rad, in the basis s2_basis(z0)); 0 for fixed ones
+  std::vector<bool> free;     ///< per tangent coordinate
 };
 
+/// What a fit found, how well, and why it stopped. `usable` is the one flag to test before using the values.
 template <class P>
 struct FitResult {
-  P problem;                 // the base problem with the fitted parameters
-  State<double> initial;     // the fitted initial state
+  P problem;                 ///< the base problem with the fitted parameters
+  State<double> initial;     ///< the fitted initial state
+  ///@{
+  /// Periodic orbits: the period T and phase φ (rad) of the result (the guesses where not fitted); 0 for
+  /// observation fits.
   double period = 0, phase = 0;
-  std::vector<FittedValue> values;      // the unknowns, in the order of block_info
-  std::vector<std::string> labels;      // the free tangent coordinates, e.g. "initial.omega[1]", "initial.R[d3]"
-  Eigen::MatrixXd covariance;           // over `labels` (empty when not computed or rank deficient)
-  Eigen::MatrixXd correlation;
-  Mat3<double> principal_axes = Mat3<double>::Identity();  // columns: the axes of problem.inertia's moments
-  double initial_cost = 0, final_cost = 0;  // ½ Σ ρ(|r/σ|²)
-  int iterations = 0;                       // Ceres' iterations (successful and not)
-  ceres::TerminationType termination = ceres::FAILURE;
-  std::string termination_type;             // "CONVERGENCE", "NO_CONVERGENCE", "FAILURE", ...
-  std::string message;                      // Ceres' message
-  bool covariance_ok = false;
-  bool usable = false;  // converged, finite cost, covariance fine and the data explained (or periodic residual fine)
-  int residuals = 0;
-  double max_residual = 0;                  // max |r/σ| (periodic: max |r|)
-  double chi_square = 0;                    // Σ (r/σ)² at the solution, before any robust loss (periodic: Σ r²)
-  int degrees_of_freedom = 0;               // residuals − free tangent coordinates
-  // P(χ²_ν ≥ chi_square) (regularised upper incomplete gamma Q(ν/2, χ²/2)) where the goodness-of-fit test applies
-  // (observations without robust losses, ν > 0); −1 where it does not.
+  ///@}
+  std::vector<FittedValue> values;      ///< the unknowns, in the order of block_info
+  std::vector<std::string> labels;      ///< the free tangent coordinates, e.g. "initial.omega[1]", "initial.R[d3]"
+  Eigen::MatrixXd covariance;           ///< over `labels` (empty when not computed or rank deficient)
+  Eigen::MatrixXd correlation;          ///< C_kl/√(C_kk C_ll) over `labels` (empty with the covariance)
+  Mat3<double> principal_axes = Mat3<double>::Identity();  ///< columns: the axes of problem.inertia's moments
+  ///@{
+  /// ½ Σ ρ(|r/σ|²) at the start and at the solution.
+  double initial_cost = 0, final_cost = 0;
+  ///@}
+  int iterations = 0;                       ///< Ceres' iterations (successful and not)
+  ceres::TerminationType termination = ceres::FAILURE;  ///< Ceres' termination
+  std::string termination_type;             ///< "CONVERGENCE", "NO_CONVERGENCE", "FAILURE", ...
+  std::string message;                      ///< Ceres' message
+  bool covariance_ok = false;           ///< the covariance was computed (Jacobian of full rank)
+  bool usable = false;  ///< converged, finite cost, covariance fine and the data explained (or periodic residual fine)
+  int residuals = 0;                        ///< the number of residual components
+  double max_residual = 0;                  ///< max |r/σ| (periodic: max |r|)
+  double chi_square = 0;                    ///< Σ (r/σ)² at the solution, before any robust loss (periodic: Σ r²)
+  int degrees_of_freedom = 0;               ///< residuals − free tangent coordinates
+  /// P(χ²_ν ≥ chi_square) (regularised upper incomplete gamma Q(ν/2, χ²/2)) where the goodness-of-fit test applies
+  /// (observations without robust losses, ν > 0); −1 where it does not.
   double p_value = -1;
-  bool budget_exhausted = false;            // SolverOptions::max_seconds ran out (the result is not usable)
-  long integrations = 0;                    // integrations run (one per Jet pass)
-  double seconds = 0;                       // wall time of the solve
-  std::string report;                       // Ceres' BriefReport
-  std::string full_report;                  // Ceres' FullReport and the per-iteration table
+  bool budget_exhausted = false;            ///< SolverOptions::max_seconds ran out (the result is not usable)
+  long integrations = 0;                    ///< integrations run (one per Jet pass)
+  double seconds = 0;                       ///< wall time of the solve
+  std::string report;                       ///< Ceres' BriefReport
+  std::string full_report;                  ///< Ceres' FullReport and the per-iteration table
 
+  /// The unknown `name` (scene name), or nullptr when it was not fitted.
   const FittedValue* find(std::string_view name) const {
     for (const FittedValue& v : values)
       if (v.name == name) return &v;
     return nullptr;
   }
+  /// The unknown `name`; std::out_of_range when it was not fitted.
   const FittedValue& at(std::string_view name) const {
     if (const FittedValue* v = find(name)) return *v;
     throw std::out_of_range("lgi::fit::FitResult: no unknown '" + std::string(name) + "'");
@@ -288,10 +302,6 @@ FitResult<P> solve(Model<Method, P, N>& model, const SolverOptions& solver, bool
 
 }  // namespace detail
 
-// Fits the unknowns to the observations. `problem` and `initial` are the base scene (the initial guesses of
-// the unknowns, the fixed values of the rest); Method is any of the library's stepper templates (lgvi: Lgvi,
-// rkmk4: Rkmk4, ...) used with the fixed step options.dt; N the Jet size (derivatives are computed in passes
-// of N tangent coordinates). Throws FitInputError (a std::invalid_argument) on bad input.
 namespace detail {
 
 template <template <class> class Method, int N, RigidBodyProblem P>
@@ -301,6 +311,13 @@ FitResult<P> fit_observations_until(const P& problem, const State<double>& initi
 
 }  // namespace detail
 
+/// Fits the unknowns to the observations. `problem` and `initial` are the base scene (the initial guesses of
+/// the unknowns, the fixed values of the rest); Method is any of the library's stepper templates (lgvi: Lgvi,
+/// rkmk4: Rkmk4, ...) used with the fixed step options.dt; N the Jet size (derivatives are computed in passes
+/// of N tangent coordinates). Throws FitInputError (a std::invalid_argument) on bad input.
+/// A fit that runs but does not succeed is not an exception: FitResult::usable is false and termination, message,
+/// p_value and budget_exhausted say why. Cost: one integration in double per new point of the solver, plus
+/// ⌈free coordinates / N⌉ Jet integrations where derivatives are needed.
 template <template <class> class Method, int N = 8, RigidBodyProblem P>
 FitResult<P> fit_observations(const P& problem, const State<double>& initial, std::span<const Unknown> unknowns,
                               std::span<const Observation> observations, const FitOptions& options) {
@@ -374,8 +391,11 @@ FitResult<P> fit_observations_until(const P& problem, const State<double>& initi
 
 }  // namespace detail
 
-// Finds a periodic orbit near the guess (problem, initial, period): the unknowns are listed as for
-// fit_observations, plus "period" and, for the about_k symmetry, "phase" (φ, rad; guess `phase`).
+/// Finds a periodic orbit near the guess (problem, initial, period): the unknowns are listed as for
+/// fit_observations, plus "period" and, for the about_k symmetry, "phase" (φ, rad; guess `phase`).
+/// Throws FitInputError on bad input (a period ≤ 0 or not finite, steps < 1, an unknown that does not apply). The
+/// result is usable when its cost is finite, max |r| ≤ options.tolerance and the budget was not exhausted; no
+/// covariance is computed.
 template <template <class> class Method, int N = 8, RigidBodyProblem P>
 FitResult<P> fit_periodic(const P& problem, const State<double>& initial, double period, std::span<const Unknown> unknowns,
                           const PeriodicOptions& options, double phase = 0) {

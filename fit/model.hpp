@@ -1,29 +1,32 @@
-// lgi/fit/model.hpp — the unknowns of a fit, their derivatives through the integrator, and the ceres cost
-// functions.
-//
-// Unknowns (scene names; a fit lists any subset, the rest keep the base scene's values):
-//   initial.omega    Ω0 ∈ R³                      Euclidean; components may be fixed or bounded
-//   initial.R        R0 ∈ SO(3)                   SO3Manifold, R0 ⊞ δ = R0 Exp(δ), δ ∈ R³ (fit/manifolds.hpp)
-//   problem.inertia  principal moments I_k > 0    stored as ℓ_k = log I_k about principal axes Q that stay those
-//                                                 of the base scene's tensor: J = Q diag(e^ℓ) Qᵀ
-//   problem.b        b ≥ 0                        Euclidean, lower bound 0 unless a bound is given
-//   problem.z0       z0 ∈ S²                      S2Manifold
-//   period           T (periodic orbits)          the step is T/N for a fixed N
-//   phase            φ (periodic orbits, heavy top): R(T) = Exp(φ k) R0
-//
-// Derivatives. Ceres asks for ∂r/∂x in the ambient coordinates x of each parameter block (9 for R0, 3 for z0)
-// and multiplies them by the manifold's PlusJacobian P. Here the derivatives are carried by ceres::Jet in the
-// tangent coordinates instead (R0 Exp(δ) with δ a Jet of value 0; fewer Jet components: 3 instead of 9 for R0)
-// and handed to ceres as J_amb = J_tan (PᵀP)⁻¹ Pᵀ, which gives J_amb P = J_tan exactly (P has full column rank).
-// Jets are of a fixed size N (explicitly instantiated; compile time) and the free tangent coordinates are
-// covered in passes of N when there are more.
-//
-// One integration per trajectory. Every observation is its own residual block (so that robust losses act on
-// each one), but all of them read one integration of the trajectory through every observation time, cached by
-// the parameter values (bit for bit): a new point of the solver costs one run in double, plus one run in
-// Jet<N> per pass when derivatives are asked for. A run that fails — a step status other than ok (Newton not
-// converged, non-finite state), or any non-finite value or derivative (lgi::all_finite checks the derivative
-// parts, which ceres::isfinite does not) — makes the cost functions return false, so Ceres rejects the step.
+/// \file
+/// lgi/fit/model.hpp — the unknowns of a fit, their derivatives through the integrator, and the ceres cost
+/// functions.
+///
+/// Unknowns (scene names; a fit lists any subset, the rest keep the base scene's values):
+/// ~~~{.unparsed}
+///   initial.omega    Ω0 ∈ R³                      Euclidean; components may be fixed or bounded
+///   initial.R        R0 ∈ SO(3)                   SO3Manifold, R0 ⊞ δ = R0 Exp(δ), δ ∈ R³ (fit/manifolds.hpp)
+///   problem.inertia  principal moments I_k > 0    stored as ℓ_k = log I_k about principal axes Q that stay those
+///                                                 of the base scene's tensor: J = Q diag(e^ℓ) Qᵀ
+///   problem.b        b ≥ 0                        Euclidean, lower bound 0 unless a bound is given
+///   problem.z0       z0 ∈ S²                      S2Manifold
+///   period           T (periodic orbits)          the step is T/N for a fixed N
+///   phase            φ (periodic orbits, heavy top): R(T) = Exp(φ k) R0
+/// ~~~
+///
+/// Derivatives. Ceres asks for ∂r/∂x in the ambient coordinates x of each parameter block (9 for R0, 3 for z0)
+/// and multiplies them by the manifold's PlusJacobian P. Here the derivatives are carried by ceres::Jet in the
+/// tangent coordinates instead (R0 Exp(δ) with δ a Jet of value 0; fewer Jet components: 3 instead of 9 for R0)
+/// and handed to ceres as J_amb = J_tan (PᵀP)⁻¹ Pᵀ, which gives J_amb P = J_tan exactly (P has full column rank).
+/// Jets are of a fixed size N (explicitly instantiated; compile time) and the free tangent coordinates are
+/// covered in passes of N when there are more.
+///
+/// One integration per trajectory. Every observation is its own residual block (so that robust losses act on
+/// each one), but all of them read one integration of the trajectory through every observation time, cached by
+/// the parameter values (bit for bit): a new point of the solver costs one run in double, plus one run in
+/// `Jet<N>` per pass when derivatives are asked for. A run that fails — a step status other than ok (Newton not
+/// converged, non-finite state), or any non-finite value or derivative (lgi::all_finite checks the derivative
+/// parts, which ceres::isfinite does not) — makes the cost functions return false, so Ceres rejects the step.
 #pragma once
 
 #include <lgi/core/driver.hpp>
@@ -57,27 +60,36 @@
 
 namespace lgi::fit {
 
-// One unknown of a fit (see the header for the names).
+/// One unknown of a fit (see the header for the names).
 struct Unknown {
+  /// An unnamed unknown (Model rejects it: the name must be one of block_info's).
   Unknown() = default;
+  /// The unknown `name_` with its fixed components and bounds (checked by Model, FitInputError naming unknowns[i]).
   Unknown(std::string name_, std::vector<int> fixed_ = {}, std::vector<double> lower_ = {}, std::vector<double> upper_ = {})
       : name(std::move(name_)), fixed(std::move(fixed_)), lower(std::move(lower_)), upper(std::move(upper_)) {}
 
-  std::string name;
-  std::vector<int> fixed;            // components held at their initial value (initial.omega, problem.inertia)
-  std::vector<double> lower, upper;  // bounds, empty or one per component (problem.inertia: on the moments);
-                                     // ±infinity for none. Not for initial.R, problem.z0.
+  std::string name;                  ///< a scene name of the header's table, e.g. "initial.omega"
+  std::vector<int> fixed;            ///< components held at their initial value (initial.omega, problem.inertia)
+  ///@{
+  /// Bounds, empty or one per component (problem.inertia: on the moments); ±infinity for none. Not for initial.R,
+  /// problem.z0.
+  std::vector<double> lower, upper;
+  ///@}
 };
 
+/// The parameter blocks of a fit, one per unknown of the header's table, in this order.
 enum class Block : int { omega = 0, R, inertia, b, z0, period, phase };
+/// The number of Block values.
 inline constexpr int block_count = 7;
 
+/// A parameter block's scene name and sizes.
 struct BlockInfo {
-  std::string_view name;
-  int ambient;  // doubles ceres stores
-  int tangent;  // dimension of the manifold
-  bool euclidean;
+  std::string_view name;  ///< the unknown's scene name
+  int ambient;  ///< doubles ceres stores
+  int tangent;  ///< dimension of the manifold
+  bool euclidean;  ///< R^n with the identity as its manifold (components may be fixed, bounds allowed)
 };
+/// BlockInfo of every Block, indexed by the Block's value.
 inline constexpr std::array<BlockInfo, block_count> block_info{{
     {"initial.omega", 3, 3, true},
     {"initial.R", 9, 3, false},
@@ -88,57 +100,68 @@ inline constexpr std::array<BlockInfo, block_count> block_info{{
     {"phase", 1, 1, true},
 }};
 
+/// The unknowns' names, comma-separated (for messages).
 inline std::string known_unknowns() {
   std::string s;
   for (const BlockInfo& b : block_info) s += (s.empty() ? "" : ", ") + std::string(b.name);
   return s;
 }
 
-// Periodic orbits: what "returns to itself" means (the symmetry of the problem).
+/// Periodic orbits: what "returns to itself" means (the symmetry of the problem).
 enum class PeriodicSymmetry {
-  automatic,   // body_omega for a torque-free problem, about_k for a problem with a vertical k, else none
-  none,        // R(T) = R0, Ω(T) = Ω0
-  about_k,     // R(T) = Exp(φ k) R0, Ω(T) = Ω0 (heavy tops: rotations about the vertical k are a symmetry)
-  body_omega,  // Ω(T) = Ω0 only (free body: every rotation of the laboratory is a symmetry)
+  automatic,   ///< body_omega for a torque-free problem, about_k for a problem with a vertical k, else none
+  none,        ///< R(T) = R0, Ω(T) = Ω0
+  about_k,     ///< R(T) = Exp(φ k) R0, Ω(T) = Ω0 (heavy tops: rotations about the vertical k are a symmetry)
+  body_omega,  ///< Ω(T) = Ω0 only (free body: every rotation of the laboratory is a symmetry)
 };
 
+/// True when problem P has a member b (then problem.b can be an unknown).
 template <class P>
 inline constexpr bool has_b_v = requires(P p) { p.b; };
+/// True when problem P has a member z0 (then problem.z0 can be an unknown).
 template <class P>
 inline constexpr bool has_z0_v = requires(P p) { p.z0; };
+/// True when problem P has a vertical k (the about_k symmetry of periodic orbits).
 template <class P>
 inline constexpr bool has_k_v = requires(P p) { p.k; };
 
+/// What a Model fits: observations (residuals at the observation times) or a periodic orbit (one residual).
 enum class Mode { observations, periodic };
 
+/// The integration and the kind of a fit.
 struct ModelOptions {
-  Mode mode = Mode::observations;
-  double dt = 0;                // observations: the fixed step
-  double t_end = -1;            // observations: times must lie in [0, t_end] (< 0: no upper limit but the data's)
-  int steps = 0;                // periodic: the number of steps over the period
-  StepperOptions stepper;
-  PeriodicSymmetry symmetry = PeriodicSymmetry::automatic;
-  // After this instant every integration stops at its next monitor call (every 1024 steps) and its residual
-  // evaluation fails: a wall-clock budget that a long arc cannot overrun by more than 1024 steps.
+  Mode mode = Mode::observations;  ///< observations or periodic
+  double dt = 0;                ///< observations: the fixed step
+  double t_end = -1;            ///< observations: times must lie in [0, t_end] (< 0: no upper limit but the data's)
+  int steps = 0;                ///< periodic: the number of steps over the period
+  StepperOptions stepper;       ///< the method's options (fixed steps: rtol = atol = 0)
+  PeriodicSymmetry symmetry = PeriodicSymmetry::automatic;  ///< periodic: what "returns to itself" means
+  /// After this instant every integration stops at its next monitor call (every 1024 steps) and its residual
+  /// evaluation fails: a wall-clock budget that a long arc cannot overrun by more than 1024 steps.
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
 
+/// A fit of problem P integrated by Method (a Stepper template, fixed steps) with Jets of N derivative components:
+/// the unknowns' values, their manifolds and bounds, and the cost functions (the header). It owns its parameter
+/// values, manifolds and the cached trajectory; not copyable. The cost functions refer to it: it must outlive the
+/// ceres::Problem. Concurrent evaluations of the observation costs serialise on mutex().
 template <template <class> class Method, RigidBodyProblem P, int N>
 class Model {
  public:
-  using Jet = ceres::Jet<double, N>;
-  using Jet12 = ceres::Jet<double, 12>;
+  using Jet = ceres::Jet<double, N>;     ///< the Jet of a derivative pass (N tangent coordinates)
+  using Jet12 = ceres::Jet<double, 12>;  ///< the Jet of an observation residual: d/d(vec R, Ω)
   static_assert(N >= 1);
 
+  /// The problem, initial state, period and phase of a point of the fit, in scalar T.
   template <class T>
   struct Seeded {
-    rebind_problem_t<P, T> problem;
-    State<T> x0;
-    T period;
-    T phase;
+    rebind_problem_t<P, T> problem;  ///< the base problem with the unknowns' values
+    State<T> x0;                     ///< the initial state
+    T period;                        ///< periodic: T (else the stored 0)
+    T phase;                         ///< periodic, about_k: φ (else the stored 0)
   };
 
-  // Validates everything (FitInputError naming the field); period and phase are the periodic guesses.
+  /// Validates everything (FitInputError naming the field); period and phase are the periodic guesses.
   Model(const P& problem, const State<double>& initial, std::span<const Unknown> unknowns,
         std::span<const Observation> observations, const ModelOptions& options, double period = 0, double phase = 0)
       : base_(problem), options_(options), observations_(observations.begin(), observations.end()) {
@@ -186,32 +209,41 @@ class Model {
     }
   }
 
-  Model(const Model&) = delete;
-  Model& operator=(const Model&) = delete;
+  Model(const Model&) = delete;             ///< not copyable (cost functions refer to it)
+  Model& operator=(const Model&) = delete;  ///< not copyable
 
   // ---- layout ----
+  /// The number of free tangent coordinates (the columns of the tangent-space Jacobian).
   int tangent_size() const { return n_tangent_; }
+  /// The blocks with a free component, in Block order (the order of the cost functions' parameter blocks).
   const std::vector<Block>& active_blocks() const { return active_; }
+  /// Pointers to the active blocks' values (ambient coordinates), in active_blocks() order: ceres writes there.
   std::vector<double*> parameter_blocks() {
     std::vector<double*> p;
     for (Block b : active_) p.push_back(values_[idx(b)].data());
     return p;
   }
-  // The manifold of each active block (nullptr: Euclidean with nothing fixed), for ceres::GradientChecker.
+  /// The manifold of each active block (nullptr: Euclidean with nothing fixed), for ceres::GradientChecker.
   std::vector<const ceres::Manifold*> manifolds() const {
     std::vector<const ceres::Manifold*> m;
     for (Block b : active_) m.push_back(manifolds_[idx(b)].get());
     return m;
   }
+  /// Block b's current values in ambient coordinates (problem.inertia: the log-moments ℓ_k).
   const std::vector<double>& value(Block b) const { return values_[idx(b)]; }
+  /// The tangent coordinate of component k of block b, −1 when it is fixed or b is not an unknown.
   int tangent_index(Block b, int k) const { return tangent_index_[idx(b)][k]; }
+  /// True when block b has a free component.
   bool is_active(Block b) const { return tangent_index_[idx(b)][0] >= 0 || tangent_index_[idx(b)][1] >= 0 || tangent_index_[idx(b)][2] >= 0; }
+  /// Q, the principal axes the moments are fitted about (the base tensor's; 1 for a diagonal one).
   const Mat3<double>& principal_axes() const { return axes_; }
+  /// The periodic symmetry, resolved (never automatic after construction in periodic mode).
   PeriodicSymmetry symmetry() const { return options_.symmetry; }
+  /// The observations, as given (observations mode).
   const std::vector<Observation>& observations() const { return observations_; }
 
-  // Adds the parameter blocks, manifolds, bounds and residual blocks to a ceres problem created with
-  // manifold_ownership = DO_NOT_TAKE_OWNERSHIP (the model owns its manifolds and must outlive the problem).
+  /// Adds the parameter blocks, manifolds, bounds and residual blocks to a ceres problem created with
+  /// manifold_ownership = DO_NOT_TAKE_OWNERSHIP (the model owns its manifolds and must outlive the problem).
   void add_to(ceres::Problem& problem) {
     std::vector<double*> blocks = parameter_blocks();
     for (std::size_t i = 0; i < active_.size(); ++i) {
@@ -230,13 +262,15 @@ class Model {
     }
   }
 
+  /// The residual block of observation i (an ObservationCost referring to this model).
   std::unique_ptr<ceres::CostFunction> observation_cost(std::size_t i);
+  /// The periodicity residual block (a PeriodicCost referring to this model).
   std::unique_ptr<ceres::CostFunction> periodic_cost();
 
   // ---- evaluation ----
 
-  // The problem, initial state, period and phase at the parameter values `params` (one pointer per active
-  // block, in order; nullptr: the stored values), with Jet derivative j = tangent coordinate chunk_begin + j.
+  /// The problem, initial state, period and phase at the parameter values `params` (one pointer per active
+  /// block, in order; nullptr: the stored values), with Jet derivative j = tangent coordinate chunk_begin + j.
   template <class T>
   Seeded<T> seed(double const* const* params, int chunk_begin) const {
     const auto var = [&](double v, int g) {
@@ -291,13 +325,13 @@ class Model {
     return s;
   }
 
-  // The monitor of every integration: false (stop) once the deadline has passed.
+  /// The monitor of every integration: false (stop) once the deadline has passed.
   auto in_time() const {
     return [deadline = options_.deadline](std::int64_t) { return std::chrono::steady_clock::now() < deadline; };
   }
 
-  // The states at the observation times (one run from t = 0); false when the run failed or left a
-  // non-finite value or derivative.
+  /// The states at the observation times (one run from t = 0); false when the run failed or left a
+  /// non-finite value or derivative.
   template <class T>
   bool run_observed(const Seeded<T>& s, std::vector<State<T>>& out) const {
     Method<rebind_problem_t<P, T>> stepper(s.problem, options_.stepper);
@@ -317,7 +351,7 @@ class Model {
     return true;
   }
 
-  // The periodicity residual (3 or 6 entries, see PeriodicSymmetry); false when the run failed.
+  /// The periodicity residual (3 or 6 entries, see PeriodicSymmetry); false when the run failed.
   template <class T>
   bool periodic_residual(const Seeded<T>& s, T* r) const {
     ++runs_;
@@ -340,17 +374,20 @@ class Model {
       if (!all_finite(r[i])) return false;
     return true;
   }
+  /// 3 for body_omega, 6 otherwise.
   int periodic_residual_size() const { return options_.symmetry == PeriodicSymmetry::body_omega ? 3 : 6; }
 
-  // The cached trajectory at `params`: states at the unique observation times and, when asked, their
-  // derivatives d(vec R, Ω)/d(tangent coordinates) (12 × n). nullptr when the integration failed.
+  /// The cached trajectory at `params`: states at the unique observation times and, when asked, their
+  /// derivatives d(vec R, Ω)/d(tangent coordinates) (12 × n). nullptr when the integration failed.
   struct Trajectory {
-    std::vector<double> key;
-    bool ok = false;
-    bool has_jacobian = false;
-    std::vector<State<double>> x;
-    std::vector<Eigen::Matrix<double, 12, Eigen::Dynamic>> dx;
+    std::vector<double> key;    ///< the parameter values it was computed at (bit for bit)
+    bool ok = false;            ///< the integration succeeded
+    bool has_jacobian = false;  ///< dx is computed
+    std::vector<State<double>> x;  ///< the states at the unique observation times
+    std::vector<Eigen::Matrix<double, 12, Eigen::Dynamic>> dx;  ///< their derivatives (12 × tangent_size())
   };
+  /// The trajectory at params (see Trajectory): one run in double when params changed, plus the Jet passes when
+  /// `jacobian` and they are not cached; nullptr when a run failed. Not thread-safe: hold mutex().
   const Trajectory* trajectory(double const* const* params, bool jacobian) const {
     std::vector<double> key;
     for (std::size_t i = 0; i < active_.size(); ++i)
@@ -381,11 +418,14 @@ class Model {
     }
     return &cache_;
   }
+  /// The lock of the cached trajectory.
   std::mutex& mutex() const { return mutex_; }
+  /// The index of an observation's time among the unique observation times.
   int time_index(std::size_t observation) const { return time_index_[observation]; }
-  long runs() const { return runs_; }  // integrations done (a Jet pass counts one)
+  /// Integrations done (a Jet pass counts one).
+  long runs() const { return runs_; }
 
-  // Ceres' ambient Jacobians from tangent-space ones (m × n_tangent, see the header).
+  /// Ceres' ambient Jacobians from tangent-space ones (m × n_tangent, see the header).
   void to_ambient(const Eigen::MatrixXd& J_tan, double const* const* params, double** jacobians) const {
     const auto m = J_tan.rows();
     for (std::size_t i = 0; i < active_.size(); ++i) {
@@ -528,8 +568,8 @@ class Model {
   P base_;
   ModelOptions options_;
   std::vector<Observation> observations_;
-  std::vector<double> times_;     // unique observation times, increasing
-  std::vector<int> time_index_;   // observation → index in times_
+  std::vector<double> times_;     ///< unique observation times, increasing
+  std::vector<int> time_index_;   ///< observation → index in times_
   std::array<std::vector<double>, block_count> values_;
   std::array<std::array<int, 3>, block_count> tangent_index_{};
   std::array<std::array<double, 9>, block_count> lower_{}, upper_{};
@@ -543,16 +583,19 @@ class Model {
   mutable long runs_ = 0;
 };
 
-// One observation's residual block: reads the model's cached trajectory.
+/// One observation's residual block: reads the model's cached trajectory.
 template <template <class> class Method, RigidBodyProblem P, int N>
 class ObservationCost final : public ceres::CostFunction {
  public:
-  using M = Model<Method, P, N>;
+  using M = Model<Method, P, N>;  ///< the model
+  /// The residual of model.observations()[i]; model must outlive this object.
   ObservationCost(const M& model, std::size_t i) : model_(model), i_(i) {
     set_num_residuals(model.observations()[i].residual_size());
     for (const Block b : model.active_blocks()) mutable_parameter_block_sizes()->push_back(block_info[static_cast<int>(b)].ambient);
   }
 
+  /// ceres::CostFunction::Evaluate: r/σ and, when asked, its ambient Jacobians; false when the integration failed
+  /// or a value or derivative is not finite. Serialised on the model's mutex.
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const std::lock_guard<std::mutex> lock(model_.mutex());
     const auto* trajectory = model_.trajectory(parameters, jacobians != nullptr);
@@ -588,16 +631,19 @@ class ObservationCost final : public ceres::CostFunction {
   std::size_t i_;
 };
 
-// The periodicity residual: one integration over [0, T] per evaluation (and per Jet pass).
+/// The periodicity residual: one integration over [0, T] per evaluation (and per Jet pass).
 template <template <class> class Method, RigidBodyProblem P, int N>
 class PeriodicCost final : public ceres::CostFunction {
  public:
-  using M = Model<Method, P, N>;
+  using M = Model<Method, P, N>;  ///< the model
+  /// The periodicity residual of model; model must outlive this object.
   explicit PeriodicCost(const M& model) : model_(model) {
     set_num_residuals(model.periodic_residual_size());
     for (const Block b : model.active_blocks()) mutable_parameter_block_sizes()->push_back(block_info[static_cast<int>(b)].ambient);
   }
 
+  /// ceres::CostFunction::Evaluate: the periodicity residual and, when asked, its ambient Jacobians (one Jet run
+  /// per N tangent coordinates); false when a run failed or left a non-finite value or derivative.
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const int m = num_residuals();
     if (!model_.periodic_residual(model_.template seed<double>(parameters, 0), residuals)) return false;

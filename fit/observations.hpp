@@ -1,18 +1,21 @@
-// lgi/fit/observations.hpp — what a fit compares the trajectory with, and the residuals it forms.
-//
-// Each observation at time t gives a residual block r/σ (σ > 0: its standard deviation), errors on SO(3) and
-// S² taken in the tangent space, never as differences of matrix entries:
-//
-//   attitude          R_obs (rotation matrix, or unit quaternion q = (w, x, y, z) body → laboratory):
-//                     r = Log(R_obsᵀ R(t)) ∈ R³ — the rotation, in the body frame, that takes R_obs to R(t);
-//                     for R_obs = R(t) Exp(σ n), n ~ N(0, I₃), r/σ = −n + O(σ²): unit-variance residuals.
-//   angular_velocity  Ω_obs (gyro, body frame): r = Ω(t) − Ω_obs ∈ R³.
-//   body_axis         the laboratory direction d_obs of the body axis a (unit, body frame): with d = R(t) a,
-//                     r = θ/sin θ · B(d_obs)ᵀ (d_obs × d) ∈ R², θ = ∠(d_obs, d) — the S² logarithm of
-//                     fit/manifolds.hpp in the basis B(d_obs) of d_obs⊥ (so |r| = θ).
-//
-// A shooting target — R(T), Ω(T) or a body-axis direction at the final time T — is an observation at t = T.
-// Robust losses (ceres::HuberLoss, ceres::CauchyLoss with scale s, applied to |r/σ|²) are per observation.
+/// \file
+/// lgi/fit/observations.hpp — what a fit compares the trajectory with, and the residuals it forms.
+///
+/// Each observation at time t gives a residual block r/σ (σ > 0: its standard deviation), errors on SO(3) and
+/// S² taken in the tangent space, never as differences of matrix entries:
+///
+/// ~~~{.unparsed}
+///   attitude          R_obs (rotation matrix, or unit quaternion q = (w, x, y, z) body → laboratory):
+///                     r = Log(R_obsᵀ R(t)) ∈ R³ — the rotation, in the body frame, that takes R_obs to R(t);
+///                     for R_obs = R(t) Exp(σ n), n ~ N(0, I₃), r/σ = −n + O(σ²): unit-variance residuals.
+///   angular_velocity  Ω_obs (gyro, body frame): r = Ω(t) − Ω_obs ∈ R³.
+///   body_axis         the laboratory direction d_obs of the body axis a (unit, body frame): with d = R(t) a,
+///                     r = θ/sin θ · B(d_obs)ᵀ (d_obs × d) ∈ R², θ = ∠(d_obs, d) — the S² logarithm of
+///                     fit/manifolds.hpp in the basis B(d_obs) of d_obs⊥ (so |r| = θ).
+/// ~~~
+///
+/// A shooting target — R(T), Ω(T) or a body-axis direction at the final time T — is an observation at t = T.
+/// Robust losses (ceres::HuberLoss, ceres::CauchyLoss with scale s, applied to |r/σ|²) are per observation.
 #pragma once
 
 #include <lgi/core/so3.hpp>
@@ -33,26 +36,31 @@
 #include <string_view>
 #include <vector>
 
+/// lgi::fit: fitting initial conditions and body parameters to observations with Ceres (docs/fitting.md).
 namespace lgi::fit {
 
-// Bad input to the fitting API. what() is "field: message"; field() names the offending input the way a
-// fit file spells it ("observations[3].t", "unknowns[1].name", "initial.R", "integrator.dt"), so that the
-// command line can turn it into a JSON path.
+/// Bad input to the fitting API. what() is "field: message"; field() names the offending input the way a
+/// fit file spells it ("observations[3].t", "unknowns[1].name", "initial.R", "integrator.dt"), so that the
+/// command line can turn it into a JSON path.
 class FitInputError : public std::invalid_argument {
  public:
+  /// The error of input `field` (a fit file's spelling), what() = "field: message".
   FitInputError(std::string field, const std::string& message)
       : std::invalid_argument(field + ": " + message), field_(std::move(field)) {}
+  /// The offending input, e.g. "observations[3].t".
   const std::string& field() const { return field_; }
 
  private:
   std::string field_;
 };
 
+/// What an observation measures (the header's list): attitude, angular_velocity, body_axis.
 enum class ObservationKind { attitude, angular_velocity, body_axis };
 
+/// The robust loss of an observation: none (least squares), huber (ceres::HuberLoss), cauchy (ceres::CauchyLoss).
 enum class Loss { none, huber, cauchy };
 
-// "none" (or ""), "huber", "cauchy"; anything else throws FitInputError naming `field`.
+/// "none" (or ""), "huber", "cauchy"; anything else throws FitInputError naming `field`.
 inline Loss loss_from_name(std::string_view name, const std::string& field = "loss") {
   if (name.empty() || name == "none" || name == "trivial") return Loss::none;
   if (name == "huber") return Loss::huber;
@@ -60,16 +68,19 @@ inline Loss loss_from_name(std::string_view name, const std::string& field = "lo
   throw FitInputError(field, "unknown loss '" + std::string(name) + "' (known: none, huber, cauchy)");
 }
 
+/// One observation at time t (the header's kinds), with its standard deviation and loss. Build it with the named
+/// constructors; check_observations validates a list of them.
 struct Observation {
-  double t = 0;
-  ObservationKind kind = ObservationKind::attitude;
-  Mat3<double> R = Mat3<double>::Identity();  // attitude
-  Vec3<double> value = Vec3<double>::Zero();  // angular_velocity: Ω_obs; body_axis: d_obs (laboratory)
-  Vec3<double> axis = Vec3<double>::UnitZ();  // body_axis: the body axis a (body frame)
-  double sigma = 1;                           // standard deviation (rad, rad/s)
-  Loss loss = Loss::none;
-  double loss_scale = 1;                      // in units of σ: the robust loss acts on |r/σ|
+  double t = 0;                                      ///< the time, in [0, t_end] of the fit
+  ObservationKind kind = ObservationKind::attitude;  ///< what is observed
+  Mat3<double> R = Mat3<double>::Identity();  ///< attitude
+  Vec3<double> value = Vec3<double>::Zero();  ///< angular_velocity: Ω_obs; body_axis: d_obs (laboratory)
+  Vec3<double> axis = Vec3<double>::UnitZ();  ///< body_axis: the body axis a (body frame)
+  double sigma = 1;                           ///< standard deviation (rad, rad/s)
+  Loss loss = Loss::none;                     ///< the robust loss (none: least squares)
+  double loss_scale = 1;                      ///< in units of σ: the robust loss acts on |r/σ|
 
+  /// An attitude R (rotation body → laboratory, to 1e-9: checked at fit time) at t, σ in rad.
   static Observation attitude(double t, const Mat3<double>& R, double sigma) {
     Observation o;
     o.t = t;
@@ -78,12 +89,13 @@ struct Observation {
     o.sigma = sigma;
     return o;
   }
-  // q = (w, x, y, z), the rotation body → laboratory. Must be a unit quaternion (to 1e-9): checked at fit time.
+  /// q = (w, x, y, z), the rotation body → laboratory. Must be a unit quaternion (to 1e-9): checked at fit time.
   static Observation attitude_quaternion(double t, const Eigen::Vector4d& q, double sigma) {
     Observation o = attitude(t, quaternion_to_rotation(q), sigma);
     o.quaternion_norm = q.norm();
     return o;
   }
+  /// A gyro reading Ω (body frame, rad per time unit) at t, σ in the same unit.
   static Observation angular_velocity(double t, const Vec3<double>& Omega, double sigma) {
     Observation o;
     o.t = t;
@@ -92,6 +104,8 @@ struct Observation {
     o.sigma = sigma;
     return o;
   }
+  /// The laboratory direction (unit) of the body axis axis_body (unit, body frame) at t, σ in rad (unit vectors
+  /// to 1e-9: checked at fit time).
   static Observation body_axis(double t, const Vec3<double>& axis_body, const Vec3<double>& direction_lab, double sigma) {
     Observation o;
     o.t = t;
@@ -101,21 +115,23 @@ struct Observation {
     o.sigma = sigma;
     return o;
   }
+  /// Sets the robust loss and its scale (in units of σ, > 0: checked at fit time); returns *this.
   Observation& with_loss(Loss l, double scale = 1) {
     loss = l;
     loss_scale = scale;
     return *this;
   }
 
-  // The rotation of a quaternion (w, x, y, z), normalised (the check on |q| is separate).
+  /// The rotation of a quaternion (w, x, y, z), normalised (the check on |q| is separate).
   static Mat3<double> quaternion_to_rotation(const Eigen::Vector4d& q) {
     const Eigen::Quaterniond e(q(0), q(1), q(2), q(3));
     return e.normalized().toRotationMatrix();
   }
 
+  /// The size of the residual block: 2 for body_axis, 3 otherwise.
   int residual_size() const { return kind == ObservationKind::body_axis ? 2 : 3; }
 
-  double quaternion_norm = 1;  // set by attitude_quaternion, checked to be 1 within 1e-9
+  double quaternion_norm = 1;  ///< set by attitude_quaternion, checked to be 1 within 1e-9
 };
 
 namespace detail {
@@ -131,9 +147,9 @@ inline std::string fmt(double x) {
 inline bool is_unit(const Vec3<double>& v) { return v.allFinite() && std::abs(v.norm() - 1) <= 1e-9; }
 }  // namespace detail
 
-// Checks every observation (see docs/fitting.md, "Bad input"); throws FitInputError naming the first bad field.
-// Times must lie in [0, t_end] and be non-decreasing; two observations of the same kind at the same time are
-// an error (a repeated row), observations of different kinds may share a time (a CSV row with R and Ω).
+/// Checks every observation (see docs/fitting.md, "Bad input"); throws FitInputError naming the first bad field.
+/// Times must lie in [0, t_end] and be non-decreasing; two observations of the same kind at the same time are
+/// an error (a repeated row), observations of different kinds may share a time (a CSV row with R and Ω).
 inline void check_observations(std::span<const Observation> obs, double t_end) {
   if (obs.empty()) throw FitInputError("observations", "no observations: a fit needs at least one");
   for (std::size_t i = 0; i < obs.size(); ++i) {
@@ -170,7 +186,7 @@ inline void check_observations(std::span<const Observation> obs, double t_end) {
   }
 }
 
-// The residual r/σ of one observation for the state x (see the header); r has residual_size() entries.
+/// The residual r/σ of one observation for the state x (see the header); r has residual_size() entries.
 template <class T>
 void observation_residual(const Observation& o, const State<T>& x, T* r) {
   using std::atan2;
@@ -207,8 +223,8 @@ void observation_residual(const Observation& o, const State<T>& x, T* r) {
   }
 }
 
-// The ceres loss of an observation (nullptr: plain least squares). Ceres applies ρ to s = |r/σ|², so a scale
-// of c σ is ρ's parameter c (HuberLoss(c): quadratic for |r/σ| < c).
+/// The ceres loss of an observation (nullptr: plain least squares). Ceres applies ρ to s = |r/σ|², so a scale
+/// of c σ is ρ's parameter c (HuberLoss(c): quadratic for |r/σ| < c).
 inline ceres::LossFunction* make_loss(const Observation& o) {
   switch (o.loss) {
     case Loss::none: return nullptr;
@@ -218,17 +234,18 @@ inline ceres::LossFunction* make_loss(const Observation& o) {
   return nullptr;
 }
 
-// Observations from a table whose columns follow `lgi run`'s CSV names: t, R11..R33 (attitude), omega1..3
-// (gyro). Each row gives an attitude observation when sigma_attitude > 0 and an angular-velocity observation when
-// sigma_omega > 0. Other columns are ignored. Throws FitInputError for a header that names a column twice, a
-// missing t column, a σ given without all of its columns (the missing ones are named), a row whose size differs
-// from the header's, or a table that yields no observation.
+/// What observations_from_table takes from a table: the standard deviations of its attitude and gyro columns.
 struct TableOptions {
-  double sigma_attitude = 0;  // 0: attitudes not used
-  double sigma_omega = 0;     // 0: angular velocities not used
-  std::string field = "observations";  // the name errors carry ("observations.csv" ...)
+  double sigma_attitude = 0;  ///< 0: attitudes not used
+  double sigma_omega = 0;     ///< 0: angular velocities not used
+  std::string field = "observations";  ///< the name errors carry ("observations.csv" ...)
 };
 
+/// Observations from a table whose columns follow `lgi run`'s CSV names: t, R11..R33 (attitude), omega1..3
+/// (gyro). Each row gives an attitude observation when sigma_attitude > 0 and an angular-velocity observation when
+/// sigma_omega > 0. Other columns are ignored. Throws FitInputError for a header that names a column twice, a
+/// missing t column, a σ given without all of its columns (the missing ones are named), a row whose size differs
+/// from the header's, or a table that yields no observation.
 inline std::vector<Observation> observations_from_table(std::span<const std::string> header,
                                                         std::span<const std::vector<double>> rows,
                                                         const TableOptions& options) {

@@ -1,44 +1,49 @@
-// lgi/integrators/batch_lgvi.hpp — the LGVI on many heavy tops (or free bodies) at once, vectorised across bodies.
-//
-// Computes, for every body i of a BodyBatch (core/batch.hpp), n_steps steps of Lgvi<HeavyTop<double>> or
-// Lgvi<FreeBody<double>> (integrators/lgvi.hpp) — the kick + LGVI (Lee, Leok, McClamroch 2005/2007):
-//
-//   h hat(Π_k + ½h M_k) = F_k J_d − J_d F_kᵀ,   R_{k+1} = R_k F_k,   Π_{k+1} = F_kᵀ(Π_k + ½h M_k) + ½h M_{k+1},
-//
-// with F_k the Cayley map of 2c, G(c) = Jc + c × Jc − ½(1 + c·c) h(Π_k + ½h M_k) = 0 solved by two
-// fixed-point sweeps and Newton as in lgvi.hpp, and the heavy-top torque M = b (Rᵀk) × z0
-// (problems/heavy_top.hpp). See lgvi.hpp for the equations' sources and what the method preserves.
-//
-// What is preserved: the results — R, Ω, status and the step at which a body stopped — equal, bit for bit, a
-// single-body run y = to_internal(x, t0), y ← step(y, t0 + n h, h) of the same Lgvi stepper (problem, options),
-// for every body, whatever the lane width and the number of threads. The lane loops
-// (integrators/batch_lgvi_kernel.hpp) repeat the single-body arithmetic operation for operation (Eigen's
-// evaluation order included); lanes whose Newton needs fewer iterations stop updating while the others
-// continue; a failing body (not_converged, non_finite) keeps its last good state and leaves its lane.
-// tests/integrators/test_batch.cpp checks all of this.
-//
-// Kernels (BatchKernel):
-//   baseline   lane blocks of 4 bodies (two SSE2 vectors), the build's own flags (x86-64 baseline)
-//   avx2       lane blocks of 8 bodies (two AVX vectors), compiled with -mavx2 -mfma -ffp-contract=off in the library
-//              lgi::batch (integrators/batch_avx2.cpp); available when that library is linked
-//              (it defines LGI_HAVE_BATCH_AVX2) and the CPU has AVX2 and FMA. No FMA contraction, so the bits
-//              are the baseline's.
-//   avx512     lane blocks of 16 bodies (two zmm vectors), compiled with -mavx512f -mavx512dq -ffp-contract=off in
-//              lgi::batch (integrators/batch_avx512.cpp); available when that library is linked (it defines
-//              LGI_HAVE_BATCH_AVX512) and the CPU (and OS) support AVX-512F and DQ. Same bits again.
-//   per_body   integrate_batch<Lgvi> (core/batch.hpp): the single-body stepper per body
-//   automatic  the widest available of avx512, avx2, baseline; per_body when J is not diagonal
-// Per-body parameters: the heavy top's b (m g ℓ) may differ per body (the span `b`); J, k, z0, h and the
-// stepper options are shared.
-//
-// Speed per body-step of every kernel, on one and two threads, and instructions per body-step: bench_batch,
-// docs/performance.md ("Many bodies at once: batches").
-//
-// Limits: diagonal J only (the principal-axes frame, J = diag(I1, I2, I3)); any other J runs per_body. Double only.
-// Autonomous problems only (the heavy-top torque does not depend on t; t0 is passed to per_body alone).
-// Bit identity holds against the single-body stepper compiled for the baseline x86-64 instruction set
-// without FMA contraction (the library's builds): compiled with -mavx or wider, Eigen evaluates some 3-term
-// sums of the single-body code in another order, and with FMA contraction its products round differently.
+/// \file
+/// lgi/integrators/batch_lgvi.hpp — the LGVI on many heavy tops (or free bodies) at once, vectorised across bodies.
+///
+/// Computes, for every body i of a BodyBatch (core/batch.hpp), n_steps steps of `Lgvi<HeavyTop<double>>` or
+/// `Lgvi<FreeBody<double>>` (integrators/lgvi.hpp) — the kick + LGVI (Lee, Leok, McClamroch 2005/2007):
+///
+/// ~~~{.unparsed}
+///   h hat(Π_k + ½h M_k) = F_k J_d − J_d F_kᵀ,   R_{k+1} = R_k F_k,   Π_{k+1} = F_kᵀ(Π_k + ½h M_k) + ½h M_{k+1},
+/// ~~~
+///
+/// with F_k the Cayley map of 2c, G(c) = Jc + c × Jc − ½(1 + c·c) h(Π_k + ½h M_k) = 0 solved by two
+/// fixed-point sweeps and Newton as in lgvi.hpp, and the heavy-top torque M = b (Rᵀk) × z0
+/// (problems/heavy_top.hpp). See lgvi.hpp for the equations' sources and what the method preserves.
+///
+/// What is preserved: the results — R, Ω, status and the step at which a body stopped — equal, bit for bit, a
+/// single-body run y = to_internal(x, t0), y ← step(y, t0 + n h, h) of the same Lgvi stepper (problem, options),
+/// for every body, whatever the lane width and the number of threads. The lane loops
+/// (integrators/batch_lgvi_kernel.hpp) repeat the single-body arithmetic operation for operation (Eigen's
+/// evaluation order included); lanes whose Newton needs fewer iterations stop updating while the others
+/// continue; a failing body (not_converged, non_finite) keeps its last good state and leaves its lane.
+/// tests/integrators/test_batch.cpp checks all of this.
+///
+/// Kernels (BatchKernel):
+/// ~~~{.unparsed}
+///   baseline   lane blocks of 4 bodies (two SSE2 vectors), the build's own flags (x86-64 baseline)
+///   avx2       lane blocks of 8 bodies (two AVX vectors), compiled with -mavx2 -mfma -ffp-contract=off in the library
+///              lgi::batch (integrators/batch_avx2.cpp); available when that library is linked
+///              (it defines LGI_HAVE_BATCH_AVX2) and the CPU has AVX2 and FMA. No FMA contraction, so the bits
+///              are the baseline's.
+///   avx512     lane blocks of 16 bodies (two zmm vectors), compiled with -mavx512f -mavx512dq -ffp-contract=off in
+///              lgi::batch (integrators/batch_avx512.cpp); available when that library is linked (it defines
+///              LGI_HAVE_BATCH_AVX512) and the CPU (and OS) support AVX-512F and DQ. Same bits again.
+///   per_body   integrate_batch<Lgvi> (core/batch.hpp): the single-body stepper per body
+///   automatic  the widest available of avx512, avx2, baseline; per_body when J is not diagonal
+/// ~~~
+/// Per-body parameters: the heavy top's b (m g ℓ) may differ per body (the span `b`); J, k, z0, h and the
+/// stepper options are shared.
+///
+/// Speed per body-step of every kernel, on one and two threads, and instructions per body-step: bench_batch,
+/// docs/performance.md ("Many bodies at once: batches").
+///
+/// Limits: diagonal J only (the principal-axes frame, J = diag(I1, I2, I3)); any other J runs per_body. Double only.
+/// Autonomous problems only (the heavy-top torque does not depend on t; t0 is passed to per_body alone).
+/// Bit identity holds against the single-body stepper compiled for the baseline x86-64 instruction set
+/// without FMA contraction (the library's builds): compiled with -mavx or wider, Eigen evaluates some 3-term
+/// sums of the single-body code in another order, and with FMA contraction its products round differently.
 #pragma once
 
 #include "../core/batch.hpp"
@@ -72,13 +77,14 @@ void run_blocks_avx512(const LgviParams& p, const LgviIO& io, std::size_t block_
                        double h, std::int64_t n_steps, bool torque);
 }  // namespace batch_kernel
 
+/// The problems the LGVI kernels take: the heavy top and the free body, in double.
 template <class P>
 concept LgviBatchProblem = std::same_as<P, HeavyTop<double>> || std::same_as<P, FreeBody<double>>;
 
-// Integrates every body of `batch` n_steps steps of h with Lgvi<P>(problem, options) (per body: b[i] in place of
-// problem.b when `b` is not empty; heavy top only). Returns the kernel that ran. Throws std::invalid_argument
-// for a bad argument (b's length, b with the free body, avx2 or avx512 requested but unavailable, h, n_steps,
-// options).
+/// Integrates every body of `batch` n_steps steps of h with `Lgvi<P>`(problem, options) (per body: b[i] in place of
+/// problem.b when `b` is not empty; heavy top only). Returns the kernel that ran. Throws std::invalid_argument
+/// for a bad argument (b's length, b with the free body, avx2 or avx512 requested but unavailable, h, n_steps,
+/// options).
 template <LgviBatchProblem P>
 BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, double h, std::int64_t n_steps,
                                  const StepperOptions& options = {}, const BatchOptions& batch_options = {},

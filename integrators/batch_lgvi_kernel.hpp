@@ -1,40 +1,43 @@
-// lgi/integrators/batch_lgvi_kernel.hpp — the vectorised lane blocks of the batched LGVI (see batch_lgvi.hpp).
-//
-// Computes, for W bodies at once (one "lane block"), exactly the operations of Lgvi<HeavyTop<double>>::step
-// (integrators/lgvi.hpp; torque M = b (Rᵀk) × z0, problems/heavy_top.hpp) and of Lgvi<FreeBody<double>>::step
-// (Torque = false) for a diagonal inertia tensor J = diag(I):
-//
-//   Π̃ = Π_k + ½h M_k,  μ = hΠ̃,  c₀ = J⁻¹ ½μ,  two sweeps c ← J⁻¹(½(1 + c·c)μ − c × Jc),
-//   Newton c ← c − dG⁻¹ G(c) (Cramer's rule) until lgvi.hpp's convergence test holds,
-//   s = 2/(1 + c·c),  F − I = s(hat(c) + hat(c)²),  R_{k+1} = R_k + R_k (F − I),
-//   Π_{k+1} = Π̃ + (F − I)ᵀ Π̃ + ½h M_{k+1},  M_{k+1} = b (R_{k+1}ᵀ k) × z0.
-//
-// Each scalar expression below is written in the order in which Eigen 3.4 evaluates the single-body code on
-// x86-64 with SSE2 (2-double packets) and no FMA contraction: 3-term dots and squared norms ((x₀ + x₁) + x₂);
-// maxCoeff of |v| a left fold m ← (m < vᵢ) ? vᵢ : m (so a NaN in v₁ or v₂ is skipped, as Eigen does); the 3×3
-// product R·(F − I) with rows 0 and 1 as ((p₀ + p₁) + p₂) (packet path) and row 2 as p₀ + (p₁ + p₂) (scalar
-// redux); (F − I)ᵀΠ and Rᵀk as ((p₀ + p₁) + p₂); cross products a × b = (a₁b₂ − a₂b₁, a₂b₀ − a₀b₂, a₀b₁ − a₁b₀).
-// tests/integrators/test_batch.cpp checks the outcome bit for bit against the single-body stepper.
-//
-// Per-lane Newton iteration counts differ: the block iterates while any lane is active and applies an update
-// only to active lanes (a blend), so each lane performs exactly the single-body iterations. A lane whose
-// step fails (not_converged, non_finite) is written out with its last good state and then replaced by a
-// benign body (R = I, Π = 0, b = 0: Newton converges at once on c = 0), so it neither slows nor disturbs the
-// other lanes. No libm calls: only + − × ÷, comparisons and bit operations.
-//
-// Vectorisation (integrators/batch_lanes.hpp): GCC vector extensions, a Pack of U machine vectors per block,
-// W = U·VW lanes (batch_kernels.hpp picks U = 2: W = 4 with SSE2, 8 with AVX2, 16 with AVX-512; faster than
-// U = 1, see there). Plain lane loops were tried first: GCC 12 left the Newton and update loops scalar
-// ("control flow in loop"); generic vectors wider than the machine's were lowered to scalar code for ?: and
-// comparisons, hence masks are blended with bit operations and blocks are whole machine vectors.
-//
-// Limits: GCC (or Clang) only — vector extensions and __builtin_bit_cast; diagonal J; double.
-//
-// Self-contained on purpose (no Eigen, no standard-library functions): integrators/batch_avx2.cpp compiles
-// this header with -mavx2 -mfma -ffp-contract=off and integrators/batch_avx512.cpp with -mavx512f -mavx512dq
-// -ffp-contract=off, and every function here lives in the namespace named by LGI_BATCH_ISA, so no inline
-// function compiled for AVX2 or AVX-512 can be merged by the linker into code that runs on the baseline
-// instruction set.
+/// \file
+/// lgi/integrators/batch_lgvi_kernel.hpp — the vectorised lane blocks of the batched LGVI (see batch_lgvi.hpp).
+///
+/// Computes, for W bodies at once (one "lane block"), exactly the operations of `Lgvi<HeavyTop<double>>`::step
+/// (integrators/lgvi.hpp; torque M = b (Rᵀk) × z0, problems/heavy_top.hpp) and of `Lgvi<FreeBody<double>>`::step
+/// (Torque = false) for a diagonal inertia tensor J = diag(I):
+///
+/// ~~~{.unparsed}
+///   Π̃ = Π_k + ½h M_k,  μ = hΠ̃,  c₀ = J⁻¹ ½μ,  two sweeps c ← J⁻¹(½(1 + c·c)μ − c × Jc),
+///   Newton c ← c − dG⁻¹ G(c) (Cramer's rule) until lgvi.hpp's convergence test holds,
+///   s = 2/(1 + c·c),  F − I = s(hat(c) + hat(c)²),  R_{k+1} = R_k + R_k (F − I),
+///   Π_{k+1} = Π̃ + (F − I)ᵀ Π̃ + ½h M_{k+1},  M_{k+1} = b (R_{k+1}ᵀ k) × z0.
+/// ~~~
+///
+/// Each scalar expression below is written in the order in which Eigen 3.4 evaluates the single-body code on
+/// x86-64 with SSE2 (2-double packets) and no FMA contraction: 3-term dots and squared norms ((x₀ + x₁) + x₂);
+/// maxCoeff of |v| a left fold m ← (m < vᵢ) ? vᵢ : m (so a NaN in v₁ or v₂ is skipped, as Eigen does); the 3×3
+/// product R·(F − I) with rows 0 and 1 as ((p₀ + p₁) + p₂) (packet path) and row 2 as p₀ + (p₁ + p₂) (scalar
+/// redux); (F − I)ᵀΠ and Rᵀk as ((p₀ + p₁) + p₂); cross products a × b = (a₁b₂ − a₂b₁, a₂b₀ − a₀b₂, a₀b₁ − a₁b₀).
+/// tests/integrators/test_batch.cpp checks the outcome bit for bit against the single-body stepper.
+///
+/// Per-lane Newton iteration counts differ: the block iterates while any lane is active and applies an update
+/// only to active lanes (a blend), so each lane performs exactly the single-body iterations. A lane whose
+/// step fails (not_converged, non_finite) is written out with its last good state and then replaced by a
+/// benign body (R = I, Π = 0, b = 0: Newton converges at once on c = 0), so it neither slows nor disturbs the
+/// other lanes. No libm calls: only + − × ÷, comparisons and bit operations.
+///
+/// Vectorisation (integrators/batch_lanes.hpp): GCC vector extensions, a Pack of U machine vectors per block,
+/// W = U·VW lanes (batch_kernels.hpp picks U = 2: W = 4 with SSE2, 8 with AVX2, 16 with AVX-512; faster than
+/// U = 1, see there). Plain lane loops were tried first: GCC 12 left the Newton and update loops scalar
+/// ("control flow in loop"); generic vectors wider than the machine's were lowered to scalar code for ?: and
+/// comparisons, hence masks are blended with bit operations and blocks are whole machine vectors.
+///
+/// Limits: GCC (or Clang) only — vector extensions and __builtin_bit_cast; diagonal J; double.
+///
+/// Self-contained on purpose (no Eigen, no standard-library functions): integrators/batch_avx2.cpp compiles
+/// this header with -mavx2 -mfma -ffp-contract=off and integrators/batch_avx512.cpp with -mavx512f -mavx512dq
+/// -ffp-contract=off, and every function here lives in the namespace named by LGI_BATCH_ISA, so no inline
+/// function compiled for AVX2 or AVX-512 can be merged by the linker into code that runs on the baseline
+/// instruction set.
 #pragma once
 
 #include "batch_lanes.hpp"
@@ -44,28 +47,28 @@
 
 namespace lgi::batch_kernel {
 
-// What every body of the batch shares: from Lgvi's constructor (Inertia<double>, StepperOptions) and the
-// heavy top's k and z0. b is the default m g ℓ when no per-body array is given.
+/// What every body of the batch shares: from Lgvi's constructor (`Inertia<double>`, StepperOptions) and the
+/// heavy top's k and z0. b is the default m g ℓ when no per-body array is given.
 struct LgviParams {
-  double J[3];      // diagonal of J
-  double J_inv[3];  // diagonal of Inertia<double>::J_inv (J.inverse(): not necessarily 1/I_i to the bit)
-  double d[3];      // (I3 − I2, I1 − I3, I2 − I1)
+  double J[3];      ///< diagonal of J
+  double J_inv[3];  ///< diagonal of `Inertia<double>`::J_inv (J.inverse(): not necessarily 1/I_i to the bit)
+  double d[3];      ///< (I3 − I2, I1 − I3, I2 − I1)
   double J_norm, J_inv_norm;
-  double floor;  // max(tolerance, 16 ε ‖J‖∞‖J⁻¹‖∞)
+  double floor;  ///< max(tolerance, 16 ε ‖J‖∞‖J⁻¹‖∞)
   double tolerance;
   int max_iterations;
   double k[3], z0[3];
   double b;
 };
 
-using LgviIO = BatchIO;  // batch_lanes.hpp
+using LgviIO = BatchIO;  ///< batch_lanes.hpp
 
 }  // namespace lgi::batch_kernel
 
 
 namespace lgi::batch_kernel::LGI_BATCH_ISA {
 
-// One block of W lanes, bodies first … first + W − 1 (lanes past io.n are benign padding), n_steps steps.
+/// One block of W lanes, bodies first … first + W − 1 (lanes past io.n are benign padding), n_steps steps.
 template <int W, bool Torque>
 void run_block(const LgviParams& p, const LgviIO& io, std::size_t first, double h, std::int64_t n_steps) {
   static_assert(W % VW == 0, "lane block width: a multiple of the machine vector's");
@@ -254,7 +257,7 @@ void run_block(const LgviParams& p, const LgviIO& io, std::size_t first, double 
     if (live[l]) write_out(l, status_ok, n_steps);
 }
 
-// Blocks [block_begin, block_end) of W lanes each.
+/// Blocks [block_begin, block_end) of W lanes each.
 template <int W, bool Torque>
 void run_blocks(const LgviParams& p, const LgviIO& io, std::size_t block_begin, std::size_t block_end, double h,
                 std::int64_t n_steps) {

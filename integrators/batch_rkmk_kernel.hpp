@@ -1,39 +1,42 @@
-// lgi/integrators/batch_rkmk_kernel.hpp — the vectorised lane blocks of the batched RKMK4 (see batch_rkmk.hpp).
-//
-// Computes, for W bodies at once (one "lane block"), exactly the operations of Rkmk4<HeavyTop<double>>::step
-// (integrators/rkmk.hpp with the classical RK4 tableau; the heavy top is a ReducedAttitudeProblem, so the stages
-// rotate Γ = Rᵀk instead of forming attitudes) and of Rkmk4<FreeBody<double>>::step (Torque = false: no Γ, no
-// stage exponentials) for a diagonal inertia tensor J = diag(I):
-//
-//   Γ = Rᵀk;  U₀ = Ω,  V₀ = J⁻¹((JΩ) × Ω + b Γ × z0)
-//   stage i = 1, 2, 3 (a₁₀ = a₂₁ = ½, a₃₂ = 1):
-//     u = (0 + a U_{i−1}) h,  W = Ω + h (0 + a V_{i−1}),
-//     U_i = W + ½ u × W + (1/12) u × (u × W)                     (J_r⁻¹ series truncated after ad²)
-//     Γ_i = Γ − A u × Γ + B u × (u × Γ),  (A, B) = exp_coefficients(u)      (exp(u)ᵀ Γ)
-//     V_i = J⁻¹((JW) × W + b Γ_i × z0)
-//   u = (((0 + b₀U₀) + b₁U₁) + b₂U₂) + b₃U₃,  likewise dΩ with V;  (A, B) = exp_coefficients(hu),
-//   R_{n+1} = R + R (A hat(hu) + B hat(hu)²),  Ω_{n+1} = Ω + h dΩ,  committed where all of it is finite.
-//
-// exp_coefficients (core/so3.hpp) lane by lane: θ² = (w₀² + w₁²) + w₂²; θ² < 1e-2: the Taylor polynomials of
-// core/trig.hpp; θ ≤ π: A = sin θ/θ, B = 2 (sin(θ/2)/θ)² with core/trig.hpp's polynomial sin, the same
-// templates as the scalar code instantiated on the lane packs; θ > π or not finite: the lane calls back into
-// so3::exp_coefficients itself (Rkmk4Params::exp_coefficients, compiled in the caller's, baseline, translation
-// unit), which uses libm. Each branch is evaluated only when a lane needs it, on benign inputs in the other
-// lanes (no spurious overflow or invalid operation where floating-point traps are on).
-//
-// Each scalar expression is written in the order in which Eigen 3.4 evaluates the single-body code on x86-64
-// with SSE2 and no FMA contraction (as in batch_lgvi_kernel.hpp: 3-term dots ((x₀ + x₁) + x₂), R·(F − I) rows
-// 0 and 1 ((p₀ + p₁) + p₂) and row 2 p₀ + (p₁ + p₂), cross products (a₁b₂ − a₂b₁, a₂b₀ − a₀b₂, a₀b₁ − a₁b₀),
-// sums u += c U starting from an exact 0, which turns −0 into +0). tests/integrators/test_batch.cpp checks the outcome bit
-// for bit against the single-body stepper.
-//
-// RKMK4 is explicit: a lane fails only when its new state is not finite (status non_finite). It is then written
-// out with its last good state and replaced by a benign body (R = I, Ω = 0, b = 0), so it neither slows nor
-// disturbs the other lanes.
-//
-// Self-contained on purpose, like batch_lgvi_kernel.hpp (no Eigen, no standard-library functions; core/trig.hpp
-// is templates and constants only, instantiated here on this ISA's lane types): integrators/batch_avx2.cpp and
-// batch_avx512.cpp compile this header for AVX2 and AVX-512 in their own namespaces.
+/// \file
+/// lgi/integrators/batch_rkmk_kernel.hpp — the vectorised lane blocks of the batched RKMK4 (see batch_rkmk.hpp).
+///
+/// Computes, for W bodies at once (one "lane block"), exactly the operations of `Rkmk4<HeavyTop<double>>`::step
+/// (integrators/rkmk.hpp with the classical RK4 tableau; the heavy top is a ReducedAttitudeProblem, so the stages
+/// rotate Γ = Rᵀk instead of forming attitudes) and of `Rkmk4<FreeBody<double>>`::step (Torque = false: no Γ, no
+/// stage exponentials) for a diagonal inertia tensor J = diag(I):
+///
+/// ~~~{.unparsed}
+///   Γ = Rᵀk;  U₀ = Ω,  V₀ = J⁻¹((JΩ) × Ω + b Γ × z0)
+///   stage i = 1, 2, 3 (a₁₀ = a₂₁ = ½, a₃₂ = 1):
+///     u = (0 + a U_{i−1}) h,  W = Ω + h (0 + a V_{i−1}),
+///     U_i = W + ½ u × W + (1/12) u × (u × W)                     (J_r⁻¹ series truncated after ad²)
+///     Γ_i = Γ − A u × Γ + B u × (u × Γ),  (A, B) = exp_coefficients(u)      (exp(u)ᵀ Γ)
+///     V_i = J⁻¹((JW) × W + b Γ_i × z0)
+///   u = (((0 + b₀U₀) + b₁U₁) + b₂U₂) + b₃U₃,  likewise dΩ with V;  (A, B) = exp_coefficients(hu),
+///   R_{n+1} = R + R (A hat(hu) + B hat(hu)²),  Ω_{n+1} = Ω + h dΩ,  committed where all of it is finite.
+/// ~~~
+///
+/// exp_coefficients (core/so3.hpp) lane by lane: θ² = (w₀² + w₁²) + w₂²; θ² < 1e-2: the Taylor polynomials of
+/// core/trig.hpp; θ ≤ π: A = sin θ/θ, B = 2 (sin(θ/2)/θ)² with core/trig.hpp's polynomial sin, the same
+/// templates as the scalar code instantiated on the lane packs; θ > π or not finite: the lane calls back into
+/// so3::exp_coefficients itself (Rkmk4Params::exp_coefficients, compiled in the caller's, baseline, translation
+/// unit), which uses libm. Each branch is evaluated only when a lane needs it, on benign inputs in the other
+/// lanes (no spurious overflow or invalid operation where floating-point traps are on).
+///
+/// Each scalar expression is written in the order in which Eigen 3.4 evaluates the single-body code on x86-64
+/// with SSE2 and no FMA contraction (as in batch_lgvi_kernel.hpp: 3-term dots ((x₀ + x₁) + x₂), R·(F − I) rows
+/// 0 and 1 ((p₀ + p₁) + p₂) and row 2 p₀ + (p₁ + p₂), cross products (a₁b₂ − a₂b₁, a₂b₀ − a₀b₂, a₀b₁ − a₁b₀),
+/// sums u += c U starting from an exact 0, which turns −0 into +0). tests/integrators/test_batch.cpp checks the
+/// outcome bit for bit against the single-body stepper.
+///
+/// RKMK4 is explicit: a lane fails only when its new state is not finite (status non_finite). It is then written
+/// out with its last good state and replaced by a benign body (R = I, Ω = 0, b = 0), so it neither slows nor
+/// disturbs the other lanes.
+///
+/// Self-contained on purpose, like batch_lgvi_kernel.hpp (no Eigen, no standard-library functions; core/trig.hpp
+/// is templates and constants only, instantiated here on this ISA's lane types): integrators/batch_avx2.cpp and
+/// batch_avx512.cpp compile this header for AVX2 and AVX-512 in their own namespaces.
 #pragma once
 
 #include "../core/trig.hpp"
@@ -45,26 +48,26 @@
 
 namespace lgi::batch_kernel {
 
-// What every body of the batch shares: the diagonal of J and of Inertia<double>::J_inv, the heavy top's k, z0
-// and default b, the tableau's non-zero entries (batch_rkmk.hpp checks the tableau's pattern), and the scalar
-// exp_coefficients for lanes the polynomials do not cover.
+/// What every body of the batch shares: the diagonal of J and of `Inertia<double>`::J_inv, the heavy top's k, z0
+/// and default b, the tableau's non-zero entries (batch_rkmk.hpp checks the tableau's pattern), and the scalar
+/// exp_coefficients for lanes the polynomials do not cover.
 struct Rkmk4Params {
   double J[3], J_inv[3];
   double k[3], z0[3];
   double b;
   double a10, a21, a32;
   double b0, b1, b2, b3;
-  void (*exp_coefficients)(const double* w, double* AB);  // AB = (A, B) of so3::exp_coefficients(w)
+  void (*exp_coefficients)(const double* w, double* AB);  ///< AB = (A, B) of so3::exp_coefficients(w)
 };
 
-using Rkmk4IO = BatchIO;  // batch_lanes.hpp
+using Rkmk4IO = BatchIO;  ///< batch_lanes.hpp
 
 }  // namespace lgi::batch_kernel
 
 
 namespace lgi::batch_kernel::LGI_BATCH_ISA {
 
-// Every lane set to v.
+/// Every lane set to v.
 template <int U>
 [[gnu::always_inline]] inline Pack<MV, U> splat(double v) {
   Pack<MV, U> r;
@@ -72,7 +75,7 @@ template <int U>
   return r;
 }
 
-// Horner as so3::detail::horner: r = c[N−1]; r = r x + c[k].
+/// Horner as so3::detail::horner: r = c[N−1]; r = r x + c[k].
 template <int U, int N>
 [[gnu::always_inline]] inline Pack<MV, U> horner_from_top(const Pack<MV, U>& x, const double (&c)[N]) {
   Pack<MV, U> r = x * c[N - 1] + c[N - 2];
@@ -80,8 +83,8 @@ template <int U, int N>
   return r;
 }
 
-// trig::sin_0_pi on lanes x ∈ [0, π]: both pieces' kernels, then a blend (each lane gets the operations of the
-// scalar branch it would take).
+/// trig::sin_0_pi on lanes x ∈ [0, π]: both pieces' kernels, then a blend (each lane gets the operations of the
+/// scalar branch it would take).
 template <int U>
 [[gnu::always_inline]] inline Pack<MV, U> sin_0_pi(const Pack<MV, U>& x) {
   using V = Pack<MV, U>;
@@ -96,7 +99,7 @@ template <int U>
   return r;
 }
 
-// (A, B) of so3::exp_coefficients(w) lane by lane (see the header).
+/// (A, B) of so3::exp_coefficients(w) lane by lane (see the header).
 template <int U>
 [[gnu::always_inline]] inline void exp_coefficients(const Rkmk4Params& p, const Pack<MV, U>& w0, const Pack<MV, U>& w1,
                                                     const Pack<MV, U>& w2, Pack<MV, U>& A, Pack<MV, U>& B) {
@@ -142,7 +145,7 @@ template <int U>
   }
 }
 
-// One block of W lanes, bodies first … first + W − 1 (lanes past io.n are benign padding), n_steps steps.
+/// One block of W lanes, bodies first … first + W − 1 (lanes past io.n are benign padding), n_steps steps.
 template <int W, bool Torque>
 void rkmk4_block(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t first, double h, std::int64_t n_steps) {
   static_assert(W % VW == 0, "lane block width: a multiple of the machine vector's");
@@ -297,7 +300,7 @@ void rkmk4_block(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t first, dou
     if (live[l]) write_out(l, status_ok, n_steps);
 }
 
-// Blocks [block_begin, block_end) of W lanes each.
+/// Blocks [block_begin, block_end) of W lanes each.
 template <int W, bool Torque>
 void rkmk4_blocks(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t block_begin, std::size_t block_end, double h,
                   std::int64_t n_steps) {

@@ -1,30 +1,34 @@
-// lgi/integrators/butcher_tableaus.hpp — explicit Runge–Kutta coefficients, as constexpr data.
-//
-// Each tableau carries the name under which its RKMK method is known to scenes, its classical order,
-// and its reference. Adding an explicit method to lgi is adding a tableau here and one alias in rkmk.hpp.
-//
-//   ButcherTableau<S>        a, b, c of an explicit method: Euler (1), Heun (2), Kutta 3 (3), classical
-//                            RK4 and the 3/8 rule (4)
-//   EmbeddedTableau<S, SE, D, C = double>  an embedded pair with its error weights e = b − b̂ and a continuous
-//                            extension (dense output, degree D): Dormand–Prince 5(4), DOP853 8(5,3), Verner's 9(8);
-//                            Verner's 8(7) is here as checked data but not offered as a method (see it below)
-//
-// Every coefficient set is checked against the Runge–Kutta order conditions (all rooted trees up to the
-// declared order, evaluated numerically) in tests/integrators/test_rkmk_family.cpp, and by observed order.
-//
-// The tableaus the methods use are doubles (tableaus::dop853, verner9 and the rest), also when a method runs in
-// long double: the order conditions then hold only to ~1e-16 (e.g. Σ b_i − 1 of DOP853 and of 1/6, 1/3, 1/3, 1/6
-// in double; 1.3e-16 for Verner 9(8)), which adds an error of ~1e-16 per unit time to a long-double run, a floor
-// that the order fits of tests/order_measure.hpp stay above (docs/findings.md).
-// DOP853 and Verner 9(8) are also variable templates over the coefficient type C, dop853_in<C> and
-// verner9_in<C>, each literal written LGI_RK(…): C = double gives the compiler's double of each literal (the
-// double tableaus are dop853_in<double> and verner9_in<double>, the same bits as plain literals); another C gets
-// the literal's text parsed in C (tableaus::detail::coefficient): binary128 (__float128) to within one unit in
-// its last place, or a class type with its own C::from_decimal. Verner's 40 digits then hold his order
-// conditions to 4.1e-34 in binary128 and 3.2e-40 in 50 digits, DOP853's 28–30 digits (dop853.f) to 2.9e-29:
-// what tests/integrators/test_quad_order.cpp needs to measure the orders of rkmk_vern9_cayley and rkmk_dp8_cayley beyond
-// the double floor. Nothing here uses __float128 or Boost; the methods take such a tableau as they take any
-// (Rkmk<tableaus::verner9_in<__float128>, P, −1, LieChart::cayley> with P's scalar boost::multiprecision::float128).
+/// \file
+/// lgi/integrators/butcher_tableaus.hpp — explicit Runge–Kutta coefficients, as constexpr data.
+///
+/// Each tableau carries the name under which its RKMK method is known to scenes, its classical order,
+/// and its reference. Adding an explicit method to lgi is adding a tableau here and one alias in rkmk.hpp.
+///
+/// ~~~{.unparsed}
+///   ButcherTableau<S>        a, b, c of an explicit method: Euler (1), Heun (2), Kutta 3 (3), classical
+///                            RK4 and the 3/8 rule (4)
+///   EmbeddedTableau<S, SE, D, C = double>  an embedded pair with its error weights e = b − b̂ and a continuous
+///                            extension (dense output, degree D): Dormand–Prince 5(4), DOP853 8(5,3), Verner's 9(8);
+///                            Verner's 8(7) is here as checked data but not offered as a method (see it below)
+/// ~~~
+///
+/// Every coefficient set is checked against the Runge–Kutta order conditions (all rooted trees up to the
+/// declared order, evaluated numerically) in tests/integrators/test_rkmk_family.cpp, and by observed order.
+///
+/// The tableaus the methods use are doubles (tableaus::dop853, verner9 and the rest), also when a method runs in
+/// long double: the order conditions then hold only to ~1e-16 (e.g. Σ b_i − 1 of DOP853 and of 1/6, 1/3, 1/3, 1/6
+/// in double; 1.3e-16 for Verner 9(8)), which adds an error of ~1e-16 per unit time to a long-double run, a floor
+/// that the order fits of tests/order_measure.hpp stay above (docs/findings.md).
+/// DOP853 and Verner 9(8) are also variable templates over the coefficient type C, `dop853_in<C>` and
+/// `verner9_in<C>`, each literal written LGI_RK(…): C = double gives the compiler's double of each literal (the
+/// double tableaus are `dop853_in<double>` and `verner9_in<double>`, the same bits as plain literals); another C gets
+/// the literal's text parsed in C (tableaus::detail::coefficient): binary128 (__float128) to within one unit in
+/// its last place, or a class type with its own C::from_decimal. Verner's 40 digits then hold his order
+/// conditions to 4.1e-34 in binary128 and 3.2e-40 in 50 digits, DOP853's 28–30 digits (dop853.f) to 2.9e-29:
+/// what tests/integrators/test_quad_order.cpp needs to measure the orders of rkmk_vern9_cayley and rkmk_dp8_cayley
+/// beyond the double floor. Nothing here uses __float128 or Boost; the methods take such a tableau as they take any
+/// (`Rkmk<tableaus::verner9_in<__float128>, P, −1, LieChart::cayley>` with P's scalar
+/// boost::multiprecision::float128).
 #pragma once
 
 #include <array>
@@ -34,22 +38,25 @@
 
 namespace lgi {
 
+/// An explicit Runge–Kutta method of S stages (a, b, c) as data: Rkmk and EuclideanRk apply it.
 template <int S>
 struct ButcherTableau {
-  static constexpr int stages = S;
-  std::string_view name;   // RKMK method name in scenes
-  std::string_view title;
-  int order;
-  std::array<std::array<double, S>, S> a;  // strictly lower triangular (explicit)
-  std::array<double, S> b;
-  std::array<double, S> c;
-  std::string_view reference;
+  static constexpr int stages = S;  ///< S
+  std::string_view name;   ///< RKMK method name in scenes
+  std::string_view title;  ///< a one-line description
+  int order;               ///< the classical order
+  std::array<std::array<double, S>, S> a;  ///< strictly lower triangular (explicit)
+  std::array<double, S> b;                 ///< the weights
+  std::array<double, S> c;                 ///< the nodes: stage i at t + c_i h
+  std::string_view reference;              ///< the paper or book
 };
 
+/// Method coefficients as constexpr data: Butcher tableaus and embedded pairs (this header), commutator-free
+/// tableaus (commutator_free.hpp).
 namespace tableaus {
 
-// Forward Euler: order 1. As an RKMK method it is the Lie–Euler method R⁺ = R exp(hΩ), Ω⁺ = Ω + hΩ'
-// (Hairer–Lubich–Wanner, GNI 2nd ed., §IV.8.2, after Theorem 8.5).
+/// Forward Euler: order 1. As an RKMK method it is the Lie–Euler method R⁺ = R exp(hΩ), Ω⁺ = Ω + hΩ'
+/// (Hairer–Lubich–Wanner, GNI 2nd ed., §IV.8.2, after Theorem 8.5).
 inline constexpr ButcherTableau<1> euler{
     .name = "lie_euler",
     .title = "Lie-Euler (RKMK with forward Euler)",
@@ -60,7 +67,7 @@ inline constexpr ButcherTableau<1> euler{
     .reference = "Hairer-Lubich-Wanner GNI, sec. IV.8.2",
 };
 
-// The classical fourth-order method of Kutta (1901); Hairer, Nørsett, Wanner, Solving ODEs I, Table II.1.2.
+/// The classical fourth-order method of Kutta (1901); Hairer, Nørsett, Wanner, Solving ODEs I, Table II.1.2.
 inline constexpr ButcherTableau<4> classical_rk4{
     .name = "rkmk4",
     .title = "Runge-Kutta-Munthe-Kaas, classical RK4",
@@ -71,9 +78,9 @@ inline constexpr ButcherTableau<4> classical_rk4{
     .reference = "Munthe-Kaas, BIT 38 (1998) 92; Hairer-Lubich-Wanner GNI, Algorithm IV.8.3",
 };
 
-// Heun's method (the explicit trapezoidal rule): order 2. K. Heun, Z. Math. Phys. 45 (1900) 23–38;
-// Hairer, Nørsett, Wanner, Solving ODEs I, 2nd ed., §II.1 (its table number there not confirmed: the book
-// was not available to us).
+/// Heun's method (the explicit trapezoidal rule): order 2. K. Heun, Z. Math. Phys. 45 (1900) 23–38;
+/// Hairer, Nørsett, Wanner, Solving ODEs I, 2nd ed., §II.1 (its table number there not confirmed: the book
+/// was not available to us).
 inline constexpr ButcherTableau<2> heun{
     .name = "rkmk_heun",
     .title = "Runge-Kutta-Munthe-Kaas, Heun (explicit trapezoidal rule)",
@@ -84,9 +91,9 @@ inline constexpr ButcherTableau<2> heun{
     .reference = "Heun, Z. Math. Phys. 45 (1900) 23; Munthe-Kaas, BIT 38 (1998) 92",
 };
 
-// Kutta's third-order method: c = (0, 1/2, 1), a21 = 1/2, a31 = −1, a32 = 2, b = (1/6, 2/3, 1/6).
-// W. Kutta, Z. Math. Phys. 46 (1901) 435–453; Hairer, Nørsett, Wanner, Solving ODEs I, §II.1 (its
-// table number there not confirmed: the book was not available to us).
+/// Kutta's third-order method: c = (0, 1/2, 1), a21 = 1/2, a31 = −1, a32 = 2, b = (1/6, 2/3, 1/6).
+/// W. Kutta, Z. Math. Phys. 46 (1901) 435–453; Hairer, Nørsett, Wanner, Solving ODEs I, §II.1 (its
+/// table number there not confirmed: the book was not available to us).
 inline constexpr ButcherTableau<3> kutta3{
     .name = "rkmk3",
     .title = "Runge-Kutta-Munthe-Kaas, Kutta's third-order method",
@@ -97,7 +104,7 @@ inline constexpr ButcherTableau<3> kutta3{
     .reference = "Kutta, Z. Math. Phys. 46 (1901) 435; Munthe-Kaas, BIT 38 (1998) 92",
 };
 
-// Kutta's 3/8 rule: order 4. Kutta (1901); Hairer, Nørsett, Wanner, Solving ODEs I, Table II.1.2 (right).
+/// Kutta's 3/8 rule: order 4. Kutta (1901); Hairer, Nørsett, Wanner, Solving ODEs I, Table II.1.2 (right).
 inline constexpr ButcherTableau<4> rule38{
     .name = "rkmk4_38",
     .title = "Runge-Kutta-Munthe-Kaas, Kutta's 3/8 rule",
@@ -111,41 +118,45 @@ inline constexpr ButcherTableau<4> rule38{
 }  // namespace tableaus
 
 // ---- Embedded pairs with a continuous extension ------------------------------------------------------
-//
-// An explicit pair (b of order p, b̂ of a lower order) with dense output. The layout extends ButcherTableau:
-// `stages` stages make a step and its error estimate; `dense_stages` ≥ `stages` adds the stages the
-// continuous extension needs (the first-same-as-last stage at the new point, and DOP853's three extra ones,
-// Verner's seven or nine), and `dense_degree` D is the degree of its weight polynomials (8 by default; 9 for
-// Verner's order-9 interpolant).
-//
-//   step:            y₁ = y₀ + h Σ_{i<stages} b_i k_i
-//   error estimate:  δ = h Σ e_i k_i with e = b − b̂; DOP853 has a second one, δ₃ = h Σ e3_i k_i (else e3 = 0)
-//   dense output:    y(t₀ + θh) = y₀ + h Σ_{i<dense_stages} b_i(θ) k_i,   b_i(θ) = Σ_{m=1..D} dense[i][m−1] θ^m
-//
-// The dense weights are built (constexpr) from the published Hermite-type form of Hairer's codes DOPRI5 and
-// DOP853, with s = θ, s' = 1 − θ, y₁ − y₀ = h Σ b_i k_i, k_f the stage at the new point (index `fsal`):
-//   y(θ) = y₀ + s(r₁ + s'(r₂ + s(r₃ + s'(r₄ + s(r₅ + s'(r₆ + s r₇))))))
-//   r₁ = y₁ − y₀,  r₂ = h k₁ − r₁,  r₃ = r₁ − h k_f − r₂ = 2r₁ − h(k₁ + k_f),  r_{3+j} = h Σ_i d[j][i] k_i.
+///
+/// An explicit pair (b of order p, b̂ of a lower order) with dense output. The layout extends ButcherTableau:
+/// `stages` stages make a step and its error estimate; `dense_stages` ≥ `stages` adds the stages the
+/// continuous extension needs (the first-same-as-last stage at the new point, and DOP853's three extra ones,
+/// Verner's seven or nine), and `dense_degree` D is the degree of its weight polynomials (8 by default; 9 for
+/// Verner's order-9 interpolant).
+///
+/// ~~~{.unparsed}
+///   step:            y₁ = y₀ + h Σ_{i<stages} b_i k_i
+///   error estimate:  δ = h Σ e_i k_i with e = b − b̂; DOP853 has a second one, δ₃ = h Σ e3_i k_i (else e3 = 0)
+///   dense output:    y(t₀ + θh) = y₀ + h Σ_{i<dense_stages} b_i(θ) k_i,   b_i(θ) = Σ_{m=1..D} dense[i][m−1] θ^m
+/// ~~~
+///
+/// The dense weights are built (constexpr) from the published Hermite-type form of Hairer's codes DOPRI5 and
+/// DOP853, with s = θ, s' = 1 − θ, y₁ − y₀ = h Σ b_i k_i, k_f the stage at the new point (index `fsal`):
+/// ~~~{.unparsed}
+///   y(θ) = y₀ + s(r₁ + s'(r₂ + s(r₃ + s'(r₄ + s(r₅ + s'(r₆ + s r₇))))))
+///   r₁ = y₁ − y₀,  r₂ = h k₁ − r₁,  r₃ = r₁ − h k_f − r₂ = 2r₁ − h(k₁ + k_f),  r_{3+j} = h Σ_i d[j][i] k_i.
+/// ~~~
 template <int S, int SE, int D = 8, class C = double>
 struct EmbeddedTableau {
-  using Coefficient = C;
-  static constexpr int stages = S;
-  static constexpr int dense_stages = SE;
-  static constexpr int dense_degree = D;
-  std::string_view name;
-  std::string_view title;
-  int order;            // of b
-  int embedded_order;   // of b̂ = b − e
-  int dense_order;      // of the continuous extension
-  int control_order;    // k in the step-size rule h ∝ err^(−1/k) (the estimate behaves like h^k)
-  std::array<std::array<C, SE>, SE> a;  // strictly lower triangular; rows ≥ S: dense-output stages
-  std::array<C, S> b;
-  std::array<C, SE> c;
-  std::array<C, S> e;   // b − b̂
-  std::array<C, S> e3;  // DOP853: b − b̂₃ (third order); zero otherwise
-  int fsal;             // index of the stage at the new point (a[fsal] = b)
-  std::array<std::array<C, D>, SE> dense;  // b_i(θ) = Σ_{m=1..D} dense[i][m−1] θ^m
-  std::string_view reference;
+  using Coefficient = C;                   ///< the coefficients' type (double, or wider for extended precision)
+  static constexpr int stages = S;         ///< stages of a step and its error estimate
+  static constexpr int dense_stages = SE;  ///< stages including those of the continuous extension
+  static constexpr int dense_degree = D;   ///< the degree D of the dense weight polynomials
+  std::string_view name;                   ///< RKMK method name in scenes
+  std::string_view title;                  ///< a one-line description
+  int order;            ///< of b
+  int embedded_order;   ///< of b̂ = b − e
+  int dense_order;      ///< of the continuous extension
+  int control_order;    ///< k in the step-size rule h ∝ err^(−1/k) (the estimate behaves like h^k)
+  std::array<std::array<C, SE>, SE> a;  ///< strictly lower triangular; rows ≥ S: dense-output stages
+  std::array<C, S> b;   ///< the weights of the solution, order `order`
+  std::array<C, SE> c;  ///< the nodes, dense-output stages included
+  std::array<C, S> e;   ///< b − b̂
+  std::array<C, S> e3;  ///< DOP853: b − b̂₃ (third order); zero otherwise
+  int fsal;             ///< index of the stage at the new point (a[fsal] = b)
+  std::array<std::array<C, D>, SE> dense;  ///< b_i(θ) = Σ_{m=1..D} dense[i][m−1] θ^m
+  std::string_view reference;              ///< the papers and codes
 };
 
 namespace tableaus::detail {
@@ -271,8 +282,8 @@ constexpr std::array<std::array<C, 8>, SE> hermite_dense(const std::array<C, S>&
 
 }  // namespace tableaus::detail
 
-// LGI_RK(literal): the literal as a coefficient of type C, the tableau's coefficient type in the variable
-// templates below (tableaus::detail::coefficient). #undef'd at the end of this file.
+/// LGI_RK(literal): the literal as a coefficient of type C, the tableau's coefficient type in the variable
+/// templates below (tableaus::detail::coefficient). `#undef`'d at the end of this file.
 #define LGI_RK(x) ::lgi::tableaus::detail::coefficient<C>(x, #x)
 
 namespace tableaus {
@@ -288,14 +299,14 @@ inline constexpr std::array<std::array<double, 7>, 1> dp5_d = {{{-12715105075.0 
                                                                  -1453857185.0 / 822651844, 69997945.0 / 29380423}}};
 }  // namespace detail
 
-// Dormand & Prince, J. Comput. Appl. Math. 6 (1980) 19–26 (the pair RK5(4)7M); Hairer, Nørsett, Wanner,
-// Solving ODEs I, 2nd ed. (1993), §II.5 (Table 5.2 there: a number from memory, also so cited in third-party
-// code, but not checked against the 2nd edition, which was not available to us; Hairer's dopri5.f names the
-// book without section or table; the 1st edition's appendix points to its Table 4.6 of §II.4, so a table
-// number needs its edition); dense output
-// of order 4 by Shampine, Math. Comp. 46 (1986) 135–150, in the form of Hairer & Wanner's DOPRI5 code
-// (HNW I §II.6). Coefficients cross-checked against two independent transcriptions of DOPRI5 and by the
-// order conditions (tests/integrators/test_rkmk_family.cpp).
+/// Dormand & Prince, J. Comput. Appl. Math. 6 (1980) 19–26 (the pair RK5(4)7M); Hairer, Nørsett, Wanner,
+/// Solving ODEs I, 2nd ed. (1993), §II.5 (Table 5.2 there: a number from memory, also so cited in third-party
+/// code, but not checked against the 2nd edition, which was not available to us; Hairer's dopri5.f names the
+/// book without section or table; the 1st edition's appendix points to its Table 4.6 of §II.4, so a table
+/// number needs its edition); dense output
+/// of order 4 by Shampine, Math. Comp. 46 (1986) 135–150, in the form of Hairer & Wanner's DOPRI5 code
+/// (HNW I §II.6). Coefficients cross-checked against two independent transcriptions of DOPRI5 and by the
+/// order conditions (tests/integrators/test_rkmk_family.cpp).
 inline constexpr EmbeddedTableau<7, 7> dormand_prince5{
     .name = "rkmk_dp5",
     .title = "Runge-Kutta-Munthe-Kaas, Dormand-Prince 5(4) with dense output (adaptive with rtol/atol)",
@@ -488,14 +499,14 @@ inline constexpr std::array<std::array<C, 16>, 4> dop853_d = [] {
 }();
 }  // namespace detail
 
-// DOP853: the explicit order-8 method of Dormand & Prince with Hairer's error estimator of orders 5 and 3
-// and an order-7 continuous extension. Prince & Dormand, J. Comput. Appl. Math. 7 (1981) 67–75 (the
-// RK8(7)13M family); the 8(5,3) version and its dense output: Hairer, Nørsett, Wanner, Solving ODEs I,
-// 2nd ed. (1993), §II.5 and §II.6, code dop853.f (section numbers from memory; table and equation numbers
-// not confirmed — the book was not available to us, and dop853.f's header cites only the book). Error
-// estimate of dop853.f: err = ‖δ₅‖² / √(‖δ₅‖² + 0.01 ‖δ₃‖²) (RMS norms of the scaled
-// components), which behaves like h⁸: control_order 8. Checked by the order conditions (order 8 for b,
-// 5 for b − e, 3 for b − e3, 7 for the dense weights) in tests/integrators/test_rkmk_family.cpp.
+/// DOP853: the explicit order-8 method of Dormand & Prince with Hairer's error estimator of orders 5 and 3
+/// and an order-7 continuous extension. Prince & Dormand, J. Comput. Appl. Math. 7 (1981) 67–75 (the
+/// RK8(7)13M family); the 8(5,3) version and its dense output: Hairer, Nørsett, Wanner, Solving ODEs I,
+/// 2nd ed. (1993), §II.5 and §II.6, code dop853.f (section numbers from memory; table and equation numbers
+/// not confirmed — the book was not available to us, and dop853.f's header cites only the book). Error
+/// estimate of dop853.f: err = ‖δ₅‖² / √(‖δ₅‖² + 0.01 ‖δ₃‖²) (RMS norms of the scaled
+/// components), which behaves like h⁸: control_order 8. Checked by the order conditions (order 8 for b,
+/// 5 for b − e, 3 for b − e3, 7 for the dense weights) in tests/integrators/test_rkmk_family.cpp.
 template <class C>
 inline constexpr EmbeddedTableau<12, 16, 8, C> dop853_in{
     .name = "rkmk_dp8",
@@ -523,6 +534,7 @@ inline constexpr EmbeddedTableau<12, 16, 8, C> dop853_in{
         "Prince-Dormand, J. Comput. Appl. Math. 7 (1981) 67; Hairer-Norsett-Wanner I, sec. II.5-II.6 (dop853); "
         "Munthe-Kaas, BIT 38 (1998) 92",
 };
+/// DOP853 in double (rkmk_dp8, the embedding baselines dop853_*).
 inline constexpr EmbeddedTableau<12, 16> dop853 = dop853_in<double>;
 
 namespace detail {
@@ -930,10 +942,10 @@ inline constexpr std::array<std::array<C, 9>, 26> vern9_dense = [] {
 }();
 }  // namespace detail
 
-// Verner's most efficient 9(8) pair: order 9, an order-8 error estimate, 16 stages a step (the 16th feeds only
-// the estimate), and an order-9 continuous extension from 10 more stages (the first at the new point). The
-// estimate e = b − b̂ behaves like h⁹: control_order 9. Checked by the order conditions (order 9 for b, 8 for
-// b − e, 9 for the dense weights at every θ tried) in tests/integrators/test_rkmk_family.cpp.
+/// Verner's most efficient 9(8) pair: order 9, an order-8 error estimate, 16 stages a step (the 16th feeds only
+/// the estimate), and an order-9 continuous extension from 10 more stages (the first at the new point). The
+/// estimate e = b − b̂ behaves like h⁹: control_order 9. Checked by the order conditions (order 9 for b, 8 for
+/// b − e, 9 for the dense weights at every θ tried) in tests/integrators/test_rkmk_family.cpp.
 template <class C>
 inline constexpr EmbeddedTableau<16, 26, 9, C> verner9_in{
     .name = "rkmk_vern9",
@@ -985,6 +997,7 @@ inline constexpr EmbeddedTableau<16, 26, 9, C> verner9_in{
         "Verner, Numer. Algorithms 53 (2010) 383 (RKV98.IIa, efficient, with interpolant of order 9); "
         "Munthe-Kaas, BIT 38 (1998) 92",
 };
+/// Verner's 9(8) pair in double (rkmk_vern9).
 inline constexpr EmbeddedTableau<16, 26, 9> verner9 = verner9_in<double>;
 
 namespace detail {
@@ -1247,17 +1260,17 @@ inline constexpr std::array<std::array<double, 8>, 21> vern8_dense = [] {
 }();
 }  // namespace detail
 
-// Verner's most efficient 8(7) pair: order 8, an order-7 error estimate, 13 stages a step (the 13th feeds only
-// the estimate), and an order-8 continuous extension from 8 more stages (the first at the new point). The
-// estimate behaves like h⁸: control_order 8. Checked by the order conditions (order 8 for b, 7 for b − e, 8 for
-// the dense weights at every θ tried) in tests/integrators/test_rkmk_family.cpp.
-// Not offered as an RKMK method (no alias, not in the registry): measured, it does not pay. On the heavy tops
-// (benchmarks/work_precision) it is a little faster than DOP853 in either chart but slower than Verner 9(8) in
-// Cayley coordinates (docs/performance.md, "Design measurements behind the code"); and its large coefficients cost
-// accuracy: its a's (up to 123, against DOP853's 43) put more round-off on a step's end, the interpolant's
-// coefficients (up to 1.35e6) far more on its dense output, and with the double coefficients even long-double runs
-// stall above the errors at which its order 8 would show: above that floor the errors fall like h⁹ … h¹⁰
-// (docs/findings.md).
+/// Verner's most efficient 8(7) pair: order 8, an order-7 error estimate, 13 stages a step (the 13th feeds only
+/// the estimate), and an order-8 continuous extension from 8 more stages (the first at the new point). The
+/// estimate behaves like h⁸: control_order 8. Checked by the order conditions (order 8 for b, 7 for b − e, 8 for
+/// the dense weights at every θ tried) in tests/integrators/test_rkmk_family.cpp.
+/// Not offered as an RKMK method (no alias, not in the registry): measured, it does not pay. On the heavy tops
+/// (benchmarks/work_precision) it is a little faster than DOP853 in either chart but slower than Verner 9(8) in
+/// Cayley coordinates (docs/performance.md, "Design measurements behind the code"); and its large coefficients cost
+/// accuracy: its a's (up to 123, against DOP853's 43) put more round-off on a step's end, the interpolant's
+/// coefficients (up to 1.35e6) far more on its dense output, and with the double coefficients even long-double runs
+/// stall above the errors at which its order 8 would show: above that floor the errors fall like h⁹ … h¹⁰
+/// (docs/findings.md).
 inline constexpr EmbeddedTableau<13, 21> verner8{
     .name = "rkmk_vern8",
     .title = "Runge-Kutta-Munthe-Kaas, Verner's efficient 8(7) pair with order-8 dense output (adaptive with rtol/atol)",
@@ -1278,15 +1291,15 @@ inline constexpr EmbeddedTableau<13, 21> verner8{
                  "Munthe-Kaas, BIT 38 (1998) 92",
 };
 
-// An embedded pair (EmbeddedTableau): error weights e and a dense output.
+/// An embedded pair (EmbeddedTableau): error weights e and a dense output.
 template <class Tab>
 inline constexpr bool is_embedded_v = requires(const Tab& T) {
   T.e;
   T.dense;
 };
 
-// Stages a fixed step needs: up to the last one with b_i ≠ 0 (an embedded pair's later stages feed only its error
-// estimate and dense output).
+/// Stages a fixed step needs: up to the last one with b_i ≠ 0 (an embedded pair's later stages feed only its error
+/// estimate and dense output).
 template <class Tab>
 constexpr int update_stages(const Tab& T) {
   int n = 0;
@@ -1295,14 +1308,14 @@ constexpr int update_stages(const Tab& T) {
   return n;
 }
 
-// Stages an embedded pair's dense output uses (dense_stages ≥ stages); a plain tableau's stages.
+/// Stages an embedded pair's dense output uses (dense_stages ≥ stages); a plain tableau's stages.
 template <class Tab>
 constexpr int dense_stages(const Tab& T) {
   if constexpr (is_embedded_v<Tab>) return T.dense_stages;
   else return T.stages;
 }
 
-// True for an embedded pair with a second error estimate (DOP853: e3 not all zero).
+/// True for an embedded pair with a second error estimate (DOP853: e3 not all zero).
 template <class Tab>
 constexpr bool has_second_estimate(const Tab& T) {
   if constexpr (is_embedded_v<Tab>) {
@@ -1312,9 +1325,11 @@ constexpr bool has_second_estimate(const Tab& T) {
   return false;
 }
 
-// Which weights of an (embedded) tableau a sum takes: the update's b, the error estimate's e, the second estimate's e3.
+/// Which weights of an (embedded) tableau a sum takes: the update's b, the error estimate's e, the second
+/// estimate's e3.
 enum class Weights { b, e, e3 };
 
+/// The I-th weight of kind W of Tableau (b_I, e_I or e3_I), at compile time.
 template <const auto& Tableau, Weights W, int I>
 constexpr auto weight() {
   if constexpr (W == Weights::b)
@@ -1325,7 +1340,7 @@ constexpr auto weight() {
     return Tableau.e3[I];
 }
 
-// Σ_i w_i K_i over the first N stages, in stage order, the zero weights skipped at compile time.
+/// Σ_i w_i K_i over the first N stages, in stage order, the zero weights skipped at compile time.
 template <const auto& Tableau, Weights W, int N, class V, std::size_t M>
 V weighted_sum(const std::array<V, M>& K) {
   using Scalar = typename V::Scalar;

@@ -1,35 +1,40 @@
-// lgi/integrators/embedding.hpp — non-geometric baselines inside the framework: classical Runge–Kutta
-// methods (RK4, DOP853) on an embedding of SO(3) × R³ in a vector space, with and without renormalisation.
-//
-// They are here so that comparisons are honest: same problems, drivers, outputs and tests as the Lie-group
-// methods, and no claim they do not earn. Two embeddings:
-//
-//   quaternion  y = (q, Ω) ∈ R⁴ × R³, q = (s, v):  q' = ½ q ⊗ (0, Ω) = ½ (−v·Ω, sΩ + v × Ω),
-//               R(q) = I + 2s hat(v) + 2 hat(v)²  (a rotation only when |q| = 1)
-//   matrix      y = (R, Ω) ∈ R⁹ × R³ (all nine entries of R):  R' = R hat(Ω)
-//
-// and in both Ω' = J⁻¹((JΩ) × Ω + M(t, R)), the torque taken at the (not exactly orthogonal) R of the stage
-// — for a ReducedAttitudeProblem through Γ = Rᵀa = a − 2s v × a + 2 v × (v × a) (quaternion) or Rᵀa
-// (matrix). The method is the explicit Runge–Kutta method of the tableau applied to y as a vector.
-//
-// Renormalisation (the "_renorm" variants), after every step and every dense output:
-//   quaternion  q ← q/|q|
-//   matrix      R ← the orthogonal polar factor of R (the nearest orthogonal matrix in the Frobenius norm,
-//               Higham, SIAM J. Sci. Stat. Comput. 7 (1986) 1160), by the Newton–Schulz iteration
-//               X ← ½ X (3I − XᵀX) (the first-order member of Björck & Bowie, SIAM J. Numer. Anal. 8 (1971)
-//               358; quadratically convergent for ‖XᵀX − I‖ < 1; equation numbers not confirmed), until
-//               ‖XᵀX − I‖_max ≤ 4ε (one or two iterations; at most 8; Jets one more). No SVD: Jets.
-//
-// Traits. Order: the tableau's. Not symplectic, not symmetric, energy and momentum drift like any RK method.
-// exact_on_group = false for all, renormalised or not: the stages leave SO(3) (the torque is evaluated at
-// non-orthogonal attitudes) and the step's result is off the group by its local error before the projection
-// puts it back; the renormalised variants keep ‖RᵀR − I‖ at round-off after each step, which the tests
-// measure and report, but that is a property of the post-processing, not of the method. The non-renormalised
-// variants leave the group by the accumulated truncation error (|q| ≠ 1, RᵀR ≠ I) — the measured contrast.
-// The DOP853 variants have its embedded error estimate and dense output (adaptive with rtol/atol: the error
-// norm is Hairer's, over the 7 or 12 components of y, sc_i = atol + rtol·max(|y_i|, |y1_i|)).
-// References: the methods, Hairer, Nørsett, Wanner, Solving ODEs I, 2nd ed., §II.1 and §II.5 (DOP853);
-// quaternion kinematics, e.g. Solà, arXiv:1711.02508, eq. (111) (not confirmed).
+/// \file
+/// lgi/integrators/embedding.hpp — non-geometric baselines inside the framework: classical Runge–Kutta
+/// methods (RK4, DOP853) on an embedding of SO(3) × R³ in a vector space, with and without renormalisation.
+///
+/// They are here so that comparisons are honest: same problems, drivers, outputs and tests as the Lie-group
+/// methods, and no claim they do not earn. Two embeddings:
+///
+/// ~~~{.unparsed}
+///   quaternion  y = (q, Ω) ∈ R⁴ × R³, q = (s, v):  q' = ½ q ⊗ (0, Ω) = ½ (−v·Ω, sΩ + v × Ω),
+///               R(q) = I + 2s hat(v) + 2 hat(v)²  (a rotation only when |q| = 1)
+///   matrix      y = (R, Ω) ∈ R⁹ × R³ (all nine entries of R):  R' = R hat(Ω)
+/// ~~~
+///
+/// and in both Ω' = J⁻¹((JΩ) × Ω + M(t, R)), the torque taken at the (not exactly orthogonal) R of the stage
+/// — for a ReducedAttitudeProblem through Γ = Rᵀa = a − 2s v × a + 2 v × (v × a) (quaternion) or Rᵀa
+/// (matrix). The method is the explicit Runge–Kutta method of the tableau applied to y as a vector.
+///
+/// Renormalisation (the "_renorm" variants), after every step and every dense output:
+/// ~~~{.unparsed}
+///   quaternion  q ← q/|q|
+///   matrix      R ← the orthogonal polar factor of R (the nearest orthogonal matrix in the Frobenius norm,
+///               Higham, SIAM J. Sci. Stat. Comput. 7 (1986) 1160), by the Newton–Schulz iteration
+///               X ← ½ X (3I − XᵀX) (the first-order member of Björck & Bowie, SIAM J. Numer. Anal. 8 (1971)
+///               358; quadratically convergent for ‖XᵀX − I‖ < 1; equation numbers not confirmed), until
+///               ‖XᵀX − I‖_max ≤ 4ε (one or two iterations; at most 8; Jets one more). No SVD: Jets.
+/// ~~~
+///
+/// Traits. Order: the tableau's. Not symplectic, not symmetric, energy and momentum drift like any RK method.
+/// exact_on_group = false for all, renormalised or not: the stages leave SO(3) (the torque is evaluated at
+/// non-orthogonal attitudes) and the step's result is off the group by its local error before the projection
+/// puts it back; the renormalised variants keep ‖RᵀR − I‖ at round-off after each step, which the tests
+/// measure and report, but that is a property of the post-processing, not of the method. The non-renormalised
+/// variants leave the group by the accumulated truncation error (|q| ≠ 1, RᵀR ≠ I) — the measured contrast.
+/// The DOP853 variants have its embedded error estimate and dense output (adaptive with rtol/atol: the error
+/// norm is Hairer's, over the 7 or 12 components of y, sc_i = atol + rtol·max(|y_i|, |y1_i|)).
+/// References: the methods, Hairer, Nørsett, Wanner, Solving ODEs I, 2nd ed., §II.1 and §II.5 (DOP853);
+/// quaternion kinematics, e.g. Solà, arXiv:1711.02508, eq. (111) (not confirmed).
 #pragma once
 
 #include "../core/state_io.hpp"
@@ -50,24 +55,25 @@
 
 namespace lgi {
 
-// The quaternion embedding's coordinates: q = (s, v1, v2, v3) and Ω.
+/// The quaternion embedding's coordinates: q = (s, v1, v2, v3) and Ω.
 template <class T>
 struct QuatState {
-  Eigen::Matrix<T, 4, 1> q;
-  Vec3<T> Omega;
+  Eigen::Matrix<T, 4, 1> q;  ///< (s, v), not necessarily unit
+  Vec3<T> Omega;             ///< body angular velocity
   LGI_NUMBERS(q, Omega)
 };
 
+/// The embedding baselines' helpers (quaternion and polar-factor maps) and names.
 namespace embedding {
 
-// I + 2s hat(v) + 2 hat(v)² (a rotation when |q| = 1).
+/// I + 2s hat(v) + 2 hat(v)² (a rotation when |q| = 1).
 template <class T>
 Mat3<T> rotation_of(const Eigen::Matrix<T, 4, 1>& q) {
   const Vec3<T> v = q.template tail<3>();
   return so3::rodrigues(v, T(2) * q(0), T(2));
 }
 
-// Rᵀa for R = rotation_of(q): a − 2s v × a + 2 v × (v × a).
+/// Rᵀa for R = rotation_of(q): a − 2s v × a + 2 v × (v × a).
 template <class T>
 Vec3<T> rotate_back(const Eigen::Matrix<T, 4, 1>& q, const Vec3<T>& a) {
   const Vec3<T> v = q.template tail<3>();
@@ -75,8 +81,8 @@ Vec3<T> rotate_back(const Eigen::Matrix<T, 4, 1>& q, const Vec3<T>& a) {
   return a - T(2) * q(0) * va + T(2) * v.cross(va);
 }
 
-// The unit quaternion of a rotation (Shepperd's method: the largest of 1 + tr R, 1 + 2R_ii − tr R chosen by
-// value), with s ≥ 0.
+/// The unit quaternion of a rotation (Shepperd's method: the largest of 1 + tr R, 1 + 2R_ii − tr R chosen by
+/// value), with s ≥ 0.
 template <class T>
 Eigen::Matrix<T, 4, 1> quaternion_of(const Mat3<T>& R) {
   using std::sqrt;
@@ -102,10 +108,10 @@ Eigen::Matrix<T, 4, 1> quaternion_of(const Mat3<T>& R) {
   return q;
 }
 
-// X ← the orthogonal polar factor of X, Newton–Schulz iteration (see the header). Returns false, X
-// unchanged, when the iteration does not reach a rotation: max |XᵀX − I| ≥ 1 (or NaN) at some iterate,
-// where it need not converge, or still above 1e-12 after its 8 updates. No rotation is produced then, and
-// the caller must not pretend otherwise (the steps report StepStatus::not_converged).
+/// X ← the orthogonal polar factor of X, Newton–Schulz iteration (see the header). Returns false, X
+/// unchanged, when the iteration does not reach a rotation: max |XᵀX − I| ≥ 1 (or NaN) at some iterate,
+/// where it need not converge, or still above 1e-12 after its 8 updates. No rotation is produced then, and
+/// the caller must not pretend otherwise (the steps report StepStatus::not_converged).
 template <class T>
 bool polar_factor(Mat3<T>& X) {
   const auto deviation = [](const Mat3<T>& Y, Mat3<T>& E) {
@@ -132,7 +138,7 @@ bool polar_factor(Mat3<T>& X) {
   return true;
 }
 
-// The orthogonal polar factor of X, which must satisfy max |XᵀX − I| < 1 (else X is returned unchanged).
+/// The orthogonal polar factor of X, which must satisfy max |XᵀX − I| < 1 (else X is returned unchanged).
 template <class T>
 Mat3<T> nearest_rotation(const Mat3<T>& X0) {
   Mat3<T> X = X0;
@@ -140,12 +146,16 @@ Mat3<T> nearest_rotation(const Mat3<T>& X0) {
   return X;
 }
 
+/// The embedding a baseline steps in (the header): quaternion, y = (q, Ω) ∈ R⁷; matrix, y = (R, Ω) ∈ R¹².
 enum class Chart { quaternion, matrix };
 
+/// A baseline's scene name and title.
 struct Info {
-  std::string_view name;
-  std::string_view title;
+  std::string_view name;   ///< the scene name
+  std::string_view title;  ///< a one-line description
 };
+/// The names and titles of the eight baselines (the aliases at the end of this header).
+///@{
 inline constexpr Info rk4_quat{"rk4_quat", "Baseline: classical RK4 on the quaternion + omega (not renormalised)"};
 inline constexpr Info rk4_quat_renorm{"rk4_quat_renorm",
                                       "Baseline: classical RK4 on the quaternion + omega, q normalised each step"};
@@ -159,15 +169,20 @@ inline constexpr Info dop853_mat{"dop853_mat", "Baseline: DOP853 on the 9 entrie
 inline constexpr Info dop853_mat_renorm{"dop853_mat_renorm",
                                         "Baseline: DOP853 on the 9 entries of R + omega, polar factor each step"};
 
+///@}
+
 }  // namespace embedding
 
+/// The explicit Runge–Kutta method of Tableau on the embedding C of SO(3) × R³ as a Stepper on problem P (this
+/// header), renormalised after every step or not: a non-geometric baseline, not exact on the group.
 template <embedding::Chart C, const auto& Tableau, bool Renormalise, const embedding::Info& Name, RigidBodyProblem P>
 class EmbeddedRk {
  public:
-  using Problem = P;
-  using Scalar = typename P::Scalar;
+  using Problem = P;                  ///< the problem type
+  using Scalar = typename P::Scalar;  ///< its scalar
+  /// (q, Ω) or (R, Ω), the embedding's coordinates.
   using Internal = std::conditional_t<C == embedding::Chart::quaternion, QuatState<Scalar>, State<Scalar>>;
-  static constexpr bool embedded = tableaus::is_embedded_v<std::remove_cvref_t<decltype(Tableau)>>;
+  static constexpr bool embedded = tableaus::is_embedded_v<std::remove_cvref_t<decltype(Tableau)>>;  ///< an embedded pair: adaptive steps
 
  private:
   static constexpr int N = C == embedding::Chart::quaternion ? 7 : 12;
@@ -179,6 +194,7 @@ class EmbeddedRk {
   using Weights = tableaus::Weights;
 
  public:
+  /// The method's traits: the tableau's order; not symplectic, not symmetric, not exact on the group.
   static constexpr MethodTraits traits{
       .name = Name.name,
       .title = Name.title,
@@ -192,21 +208,25 @@ class EmbeddedRk {
       .options = embedded ? std::array<std::string_view, 6>{"rtol", "atol", "projection"}
                           : std::array<std::string_view, 6>{"projection"},
   };
+  /// The embedded pair's control order (0 for a tableau without one).
   static constexpr int control_order = [] {
     if constexpr (embedded) return Tableau.control_order; else return 0;
   }();
 
+  /// Copies the problem; options: rtol and atol of adaptive steps (std::invalid_argument from StepperOptions::check).
   explicit EmbeddedRk(const P& problem, const StepperOptions& options = {})
       : problem_(problem), J_(problem.inertia), rtol_(options.rtol), atol_(options.atol) {
     options.check();
   }
 
+  /// x in the embedding's coordinates (the quaternion of R with s ≥ 0, or R itself).
   Internal to_internal(const State<Scalar>& x, const Scalar&) const {
     if constexpr (C == embedding::Chart::quaternion)
       return {embedding::quaternion_of(x.R), x.Omega};
     else
       return x;
   }
+  /// (R, Ω) of y: R(q) for the quaternion (a rotation only when |q| = 1), the nine entries as they are otherwise.
   State<Scalar> to_state(const Internal& y) const {
     if constexpr (C == embedding::Chart::quaternion)
       return {embedding::rotation_of(y.q), y.Omega};
@@ -214,6 +234,8 @@ class EmbeddedRk {
       return y;
   }
 
+  /// One step from t to t + h: ok, non_finite, or (renormalised matrix chart) not_converged when the result is too
+  /// far from SO(3) for its polar factor; y untouched unless ok. Cost: one torque per stage; no allocation.
   LGI_FLATTEN StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
     std::array<Vec, Tableau.stages> k;
     const Vec y0 = pack(y);
@@ -224,13 +246,18 @@ class EmbeddedRk {
     return finish(y1, y);
   }
 
+  /// What a step leaves for its dense output: its start, time, size and stage derivatives.
   struct Dense {
-    Vec y0;
+    Vec y0;                           ///< the step's start
+    ///@{
+    /// Its time and size.
     Scalar t, h;
-    std::array<Vec, dense_stages> k;
-    bool extended = false;
+    ///@}
+    std::array<Vec, dense_stages> k;  ///< the stage derivatives (the dense-only ones once extended)
+    bool extended = false;            ///< the dense-only stages have been computed
   };
 
+  /// One trial step (embedded pairs): y1 and the pair's scaled error norm (≤ 1: accept); status as step.
   LGI_FLATTEN StepStatus attempt(const Internal& y, const Scalar& t, const Scalar& h, Internal& y1, double& error,
                                  Dense& d) const
     requires embedded
@@ -267,6 +294,7 @@ class EmbeddedRk {
     return status;
   }
 
+  /// The state at t + θh of the step that filled d (θ ∈ [0, 1]), renormalised in the _renorm variants.
   LGI_FLATTEN Internal dense_output(Dense& d, const Scalar& theta) const
     requires embedded
   {
@@ -289,8 +317,11 @@ class EmbeddedRk {
     return unpack(y);
   }
 
+  /// The relative error tolerance of adaptive steps.
   double rtol() const { return rtol_; }
+  /// The absolute error tolerance of adaptive steps.
   double atol() const { return atol_; }
+  /// The problem, as copied at construction.
   const P& problem() const { return problem_; }
 
  private:
@@ -315,7 +346,7 @@ class EmbeddedRk {
     y.Omega = v.template tail<3>();
     return y;
   }
-  // false: the matrix is too far from SO(3) for its polar factor (the step failed; see polar_factor).
+  /// false: the matrix is too far from SO(3) for its polar factor (the step failed; see polar_factor).
   static bool renormalise(Vec& v) {
     if constexpr (C == embedding::Chart::quaternion) {
       v.template head<4>() /= v.template head<4>().norm();  // |q| = 0 gives NaN: finish() reports it
@@ -341,7 +372,7 @@ class EmbeddedRk {
     return tableaus::weighted_sum<Tableau, W, M>(k);
   }
 
-  // The vector field on the embedding.
+  /// The vector field on the embedding.
   Vec field(const Scalar& t, const Vec& y) const {
     Vec d;
     const Vec3<Scalar> W = y.template tail<3>();
@@ -387,20 +418,28 @@ class EmbeddedRk {
   double rtol_, atol_;
 };
 
+/// rk4_quat: classical RK4 on (q, Ω), not renormalised.
 template <RigidBodyProblem P>
 using Rk4Quat = EmbeddedRk<embedding::Chart::quaternion, tableaus::classical_rk4, false, embedding::rk4_quat, P>;
+/// rk4_quat_renorm: classical RK4 on (q, Ω), q ← q/|q| after every step.
 template <RigidBodyProblem P>
 using Rk4QuatRenorm = EmbeddedRk<embedding::Chart::quaternion, tableaus::classical_rk4, true, embedding::rk4_quat_renorm, P>;
+/// rk4_mat: classical RK4 on the nine entries of R and Ω, not renormalised.
 template <RigidBodyProblem P>
 using Rk4Mat = EmbeddedRk<embedding::Chart::matrix, tableaus::classical_rk4, false, embedding::rk4_mat, P>;
+/// rk4_mat_renorm: classical RK4 on (R, Ω), R ← its polar factor after every step.
 template <RigidBodyProblem P>
 using Rk4MatRenorm = EmbeddedRk<embedding::Chart::matrix, tableaus::classical_rk4, true, embedding::rk4_mat_renorm, P>;
+/// dop853_quat: DOP853 on (q, Ω), not renormalised; adaptive with dense output.
 template <RigidBodyProblem P>
 using Dop853Quat = EmbeddedRk<embedding::Chart::quaternion, tableaus::dop853, false, embedding::dop853_quat, P>;
+/// dop853_quat_renorm: DOP853 on (q, Ω), renormalised; adaptive with dense output.
 template <RigidBodyProblem P>
 using Dop853QuatRenorm = EmbeddedRk<embedding::Chart::quaternion, tableaus::dop853, true, embedding::dop853_quat_renorm, P>;
+/// dop853_mat: DOP853 on (R, Ω), not renormalised; adaptive with dense output.
 template <RigidBodyProblem P>
 using Dop853Mat = EmbeddedRk<embedding::Chart::matrix, tableaus::dop853, false, embedding::dop853_mat, P>;
+/// dop853_mat_renorm: DOP853 on (R, Ω), renormalised; adaptive with dense output.
 template <RigidBodyProblem P>
 using Dop853MatRenorm = EmbeddedRk<embedding::Chart::matrix, tableaus::dop853, true, embedding::dop853_mat_renorm, P>;
 

@@ -1,24 +1,27 @@
-// lgi/integrators/euclidean_rk.hpp — explicit Runge–Kutta methods on R^n, for states that are not on
-// SO(3) (the seed paper's Euler-angle top, problems/euler_angle_top.hpp), and their drivers.
-//
-// For y' = f(t, y) on R^n and an explicit tableau (a, b, c) of butcher_tableaus.hpp (Hairer, Nørsett,
-// Wanner, Solving ODEs I, 2nd ed., §II.1, eq. (1.8)):
-//
-//   k_i = f(t + c_i h, y + h Σ_{j<i} a_ij k_j),   i = 1 … s,        y⁺ = y + h Σ_i b_i k_i.
-//
-// This is the RKMK method of the same tableau on the additive group R^n (exp is y ↦ y + v and the inverse
-// Jacobian of the exponential is the identity, so Munthe-Kaas' stage equations reduce to these), which
-// is why the scene names of the RKMK tableaus select these methods for Euclidean problems.
-// Embedded pairs (EmbeddedTableau) run with fixed steps on their main weights b.
-// Order: that of the tableau. Not symplectic, not symmetric; no geometric structure is kept except
-// linear invariants (a component with zero derivative stays exactly constant). Zero tableau entries are
-// skipped at compile time; the step allocates nothing; everything is templated on the scalar.
-//
-// A Euclidean system is a struct with `Scalar`, `Vector` (a fixed-size Eigen column vector) and
-// `Vector derivative(const Scalar& t, const Vector& y) const`; optionally `bool admissible(const Vector&)
-// const`, the domain of the coordinates (the drivers stop, keeping the last admissible state, once a step
-// leaves it), and `void normalize(Vector&) const`, applied after every step (e.g. taking whole turns out
-// of an angle, so that it does not grow and round at a growing ulp).
+/// \file
+/// lgi/integrators/euclidean_rk.hpp — explicit Runge–Kutta methods on R^n, for states that are not on
+/// SO(3) (the seed paper's Euler-angle top, problems/euler_angle_top.hpp), and their drivers.
+///
+/// For y' = f(t, y) on R^n and an explicit tableau (a, b, c) of butcher_tableaus.hpp (Hairer, Nørsett,
+/// Wanner, Solving ODEs I, 2nd ed., §II.1, eq. (1.8)):
+///
+/// ~~~{.unparsed}
+///   k_i = f(t + c_i h, y + h Σ_{j<i} a_ij k_j),   i = 1 … s,        y⁺ = y + h Σ_i b_i k_i.
+/// ~~~
+///
+/// This is the RKMK method of the same tableau on the additive group R^n (exp is y ↦ y + v and the inverse
+/// Jacobian of the exponential is the identity, so Munthe-Kaas' stage equations reduce to these), which
+/// is why the scene names of the RKMK tableaus select these methods for Euclidean problems.
+/// Embedded pairs (EmbeddedTableau) run with fixed steps on their main weights b.
+/// Order: that of the tableau. Not symplectic, not symmetric; no geometric structure is kept except
+/// linear invariants (a component with zero derivative stays exactly constant). Zero tableau entries are
+/// skipped at compile time; the step allocates nothing; everything is templated on the scalar.
+///
+/// A Euclidean system is a struct with `Scalar`, `Vector` (a fixed-size Eigen column vector) and
+/// `Vector derivative(const Scalar& t, const Vector& y) const`; optionally `bool admissible(const Vector&)
+/// const`, the domain of the coordinates (the drivers stop, keeping the last admissible state, once a step
+/// leaves it), and `void normalize(Vector&) const`, applied after every step (e.g. taking whole turns out
+/// of an angle, so that it does not grow and round at a growing ulp).
 #pragma once
 
 #include "../core/driver.hpp"
@@ -37,6 +40,7 @@
 
 namespace lgi {
 
+/// A Euclidean system (this header): Scalar, Vector and derivative(t, y).
 template <class S>
 concept EuclideanSystem = requires(const S& s, const typename S::Vector& y, const typename S::Scalar& t) {
   typename S::Scalar;
@@ -44,13 +48,15 @@ concept EuclideanSystem = requires(const S& s, const typename S::Vector& y, cons
   { s.derivative(t, y) } -> std::convertible_to<typename S::Vector>;
 };
 
+/// The explicit Runge–Kutta method of Tableau on the Euclidean system Sys (this header).
 template <const auto& Tableau, EuclideanSystem Sys>
 class EuclideanRk {
  public:
-  using System = Sys;
-  using Scalar = typename Sys::Scalar;
-  using Vector = typename Sys::Vector;
+  using System = Sys;                   ///< the system type
+  using Scalar = typename Sys::Scalar;  ///< its scalar
+  using Vector = typename Sys::Vector;  ///< its state vector
 
+  /// The traits: the tableau's name and order, no geometric property.
   static constexpr MethodTraits traits{
       .name = Tableau.name,
       .title = "explicit Runge-Kutta on R^n with the tableau of this RKMK method",
@@ -63,9 +69,10 @@ class EuclideanRk {
       .reference = "Hairer-Norsett-Wanner, Solving ODEs I, sec. II.1, eq. (1.8)",
   };
 
+  /// Copies the system.
   explicit EuclideanRk(const Sys& system) : system_(system) {}
 
-  // Advances y from t to t + h; on a non-finite result y is left untouched.
+  /// Advances y from t to t + h; on a non-finite result y is left untouched.
   LGI_FLATTEN StepStatus step(Vector& y, const Scalar& t, const Scalar& h) const {
     constexpr int S = update_stages;
     std::array<Vector, S> k;
@@ -85,6 +92,7 @@ class EuclideanRk {
     return StepStatus::ok;
   }
 
+  /// The system's admissible(y), or true for a system without a domain.
   bool admissible(const Vector& y) const {
     if constexpr (requires { system_.admissible(y); })
       return system_.admissible(y);
@@ -92,10 +100,11 @@ class EuclideanRk {
       return true;
   }
 
+  /// The system, as copied at construction.
   const Sys& system() const { return system_; }
 
  private:
-  // Stages a step needs (these fixed steps make no error estimate).
+  /// Stages a step needs (these fixed steps make no error estimate).
   static constexpr int update_stages = tableaus::update_stages(Tableau);
 
   template <int I>
@@ -116,29 +125,33 @@ class EuclideanRk {
   Sys system_;
 };
 
-// What a Euclidean run ended with: IntegrationSummary (completed, step_failed, stopped by the monitor),
-// plus `left_domain` when it stopped because a step left the system's admissible domain (then status is
-// `stopped`, y the last admissible state and t its time, `t_outside` the time of the rejected state).
+/// What a Euclidean run ended with: IntegrationSummary (completed, step_failed, stopped by the monitor),
+/// plus `left_domain` when it stopped because a step left the system's admissible domain (then status is
+/// `stopped`, y the last admissible state and t its time, `t_outside` the time of the rejected state).
 struct EuclideanSummary : IntegrationSummary {
-  bool left_domain = false;
-  double t_outside = 0;
+  bool left_domain = false;  ///< the run stopped because a step left the admissible domain
+  double t_outside = 0;      ///< then: the time of the rejected state
 };
 
-// The do-nothing observer of Euclidean runs.
+/// The do-nothing observer of Euclidean runs.
 struct NoVectorObserver {
+  /// Does nothing.
   template <class T, class V>
   constexpr void operator()(const T&, const V&) const {}
 };
 
-// A Euclidean stepper with its domain checked, as the drivers step it (drive_grid, core/driver.hpp): a step whose
-// result is not admissible fails, the state untouched, and records where (left, t_outside). Internal is the
-// system's Vector.
+/// A Euclidean stepper with its domain checked, as the drivers step it (drive_grid, core/driver.hpp): a step whose
+/// result is not admissible fails, the state untouched, and records where (left, t_outside). Internal is the
+/// system's Vector.
 template <class Rk>
 class CheckedEuclideanStep {
  public:
-  using Scalar = typename Rk::Scalar;
-  using Internal = typename Rk::Vector;
+  using Scalar = typename Rk::Scalar;    ///< the stepper's scalar
+  using Internal = typename Rk::Vector;  ///< the system's vector
+  /// Refers to rk, which must outlive this object.
   explicit CheckedEuclideanStep(const Rk& rk) : rk_(rk) {}
+  /// rk's step; a result that is not admissible fails with non_finite (y untouched), recording left() and
+  /// t_outside().
   StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
     Internal trial = y;
     const StepStatus status = rk_.step(trial, t, h);
@@ -151,8 +164,11 @@ class CheckedEuclideanStep {
     y = trial;
     return StepStatus::ok;
   }
-  bool left() const { return left_; }            // the last failed step left the domain
-  double t_outside() const { return t_outside_; }  // the time of that rejected state
+  /// The last failed step left the domain.
+  bool left() const { return left_; }
+  /// The time of that rejected state.
+  double t_outside() const { return t_outside_; }
+  /// The wrapped stepper.
   const Rk& rk() const { return rk_; }
 
  private:
@@ -198,8 +214,8 @@ EuclideanSummary drive_euclidean(const Rk& rk, typename Rk::Vector& y, const typ
 
 }  // namespace detail
 
-// Integrates from t0 with step h, observing t0 and each of `times` (increasing, ≥ t0); see
-// integrate_times in core/driver.hpp. y ends at times.back() or at the last good state.
+/// Integrates from t0 with step h, observing t0 and each of `times` (increasing, ≥ t0); see
+/// integrate_times in core/driver.hpp. y ends at times.back() or at the last good state.
 template <class Stepper, class Observer = NoVectorObserver, class Monitor = NoMonitor>
 EuclideanSummary integrate_times_euclidean(const Stepper& stepper, typename Stepper::Vector& y,
                                            const typename Stepper::Scalar& t0, const typename Stepper::Scalar& h,
@@ -210,7 +226,7 @@ EuclideanSummary integrate_times_euclidean(const Stepper& stepper, typename Step
   return detail::drive_euclidean(stepper, y, t0, h, events, observe, monitor);
 }
 
-// Integrates from t0 to t_end with step h, observing t0, every `every` steps, and t_end.
+/// Integrates from t0 to t_end with step h, observing t0, every `every` steps, and t_end.
 template <class Stepper, class Observer = NoVectorObserver, class Monitor = NoMonitor>
 EuclideanSummary integrate_every_euclidean(const Stepper& stepper, typename Stepper::Vector& y,
                                            const typename Stepper::Scalar& t0, const typename Stepper::Scalar& h,

@@ -1,80 +1,81 @@
-// lgi/integrators/free_body_flows.hpp — approximate and exact-in-pieces flows of the free rigid body in
-// principal axes, the building blocks of the heavy-top splittings (splitting.hpp).
-//
-// Setting. Principal axes: J = Q diag(I) Qᵀ (Q a rotation, I the principal moments), body momentum
-// Π = Qᵀ J Ω and attitude R_p = R Q, stored as a unit quaternion q (R_p = R(q)). Free-body flow of
-// H = ½ Σ Π_i²/I_i:  Π' = Π × Ω,  R_p' = R_p hat(Ω),  Ω_i = Π_i/I_i. Every flow below maps (q, Π) to
-// (q ⊗ p, R(p)ᵀ Π) for some unit quaternion p: the spatial momentum m = R_p Π is kept to round-off by
-// construction, |Π| too, and R stays on SO(3) (q is renormalised each step — (a) without a square root,
-// q ← q (3 − |q|²)/2, (b, c) by the 1/√(|q|² α) that normalises the DMV rotation anyway — so |q| − 1
-// stays at round-off instead of random-walking).
-//
-// (a) AxisRotations — splitting of H into the three exactly solvable H_i = Π_i²/(2I_i) (McLachlan,
-//     Phys. Rev. Lett. 71 (1993) 3043; Touma & Wisdom, Astron. J. 107 (1994) 1189; Reich, Physica D 76
-//     (1994) 375; Dullweber, Leimkuhler & McLachlan, J. Chem. Phys. 107 (1997) 5840). The flow of H_i
-//     for a time τ rotates about e_i by θ = τ Π_i/I_i:  q ← q ⊗ (cos θ/2, sin θ/2 e_i),  (Π_j, Π_k) ←
-//     rotation by −θ. Composed symmetrically, a(h/2) b(h/2) c(h) b(h/2) a(h/2): order 2, symmetric,
-//     symplectic (a composition of exact Hamiltonian flows); |Π| and m exact to round-off, H with a
-//     bounded O(h²) error. The size of that error depends on the order (a, b, c) by orders of
-//     magnitude (Fassò, J. Comput. Phys. 189 (2003) 527, "Comparison of splitting algorithms for the rigid
-//     body": its abstract, which we read, says the comparison rests on the dominant term of the modified
-//     Hamiltonian, that the energy errors of the algorithms differ by several orders of magnitude, and that
-//     for the flat body I ∝ (1, 0.75, 0.25) one of them is of order four; HLW 2nd ed. §VII.5.3 cites it for
-//     this comparison. The paper's text was not available, so its selection rule is not quoted here). The
-//     default order is chosen by measurement over all six orders (tests/integrators/test_splitting.cpp): smallest
-//     moment outermost, intermediate in the middle, largest innermost with the full step — the order
-//     that is of fourth order for Fassò's flat body I ∝ (1, 0.75, 0.25), see axis_order_for().
-//     Overridable by the scene key "axis_order" (StepperOptions::axis_order, [outer, middle, inner]):
-//     axis i is the body axis e_i when J is diagonal, else the principal axis of the i-th smallest moment.
-//
-// (b) Dmv — the discrete Moser–Veselov algorithm (Moser & Veselov, Comm. Math. Phys. 139 (1991) 217),
-//     equivalently RATTLE for the free body (Hairer, Lubich & Wanner, Geometric Numerical Integration,
-//     2nd ed. 2006, §VII.5.3): with the quaternion p = (1, c)/√α, α = 1 + |c|², the step solves
-//       c_i = α w_i + ((I_j − I_k)/I_i) c_j c_k,   w_i = h Π_i/(2 I_i),   (i, j, k) cyclic
-//     (HLW eq. (VII.5.27) in Hairer's fast 3-variable form; the same equation the LGVI solves in the
-//     body frame, lgvi.hpp: G(c) = Jc + c × Jc − ½ α hΠ = 0), then q ← q ⊗ p, Π ← R(p)ᵀ Π (written
-//     Π + (2/α)(c × (c × Π) − c × Π), so m = R Π is kept for any c, converged or not, to the rounding of
-//     α; dmv_solve says which α). The fixed point
-//     (Gauss–Seidel sweeps from a one-sweep predictor; the number before the first convergence test
-//     predicted from |w|, DmvSweepTable) contracts by ≈ |c|·max|I_j − I_k|/I_i per sweep and runs until
-//     c is exact to round-off, proven by a bound on the contraction (4 sweeps at h|Ω| = 0.03; a solve
-//     stopped at a relative tolerance makes step(h) and step(−h) inverse only to that tolerance, see
-//     dmv_solve); where it stalls (worse than ¼ per sweep) or the bound cannot hold (|w| > ≈ 0.1, i.e.
-//     h|Ω| > ≈ 0.2) Newton on G takes over (dmv_newton_update, Cramer's rule; the same equation and
-//     Jacobian as the LGVI's, written for principal axes). Order 2, symmetric,
-//     symplectic; for a steady rotation about a principal axis it advances asin(h|Ω|) instead of h|Ω|
-//     (McLachlan & Zanna, Found. Comput. Math. 5 (2005) 87). The equation has no solution once h|Π|
-//     exceeds about max I (on a principal axis: h|Ω| > 1); the flow then takes ⌈h|Π|/min I⌉ substeps
-//     (dmv_substeps), so it stays finite and bounded at any step (h|Ω| = 3: tests/integrators/test_dmv.cpp; there the
-//     substeps are what keep it finite — the plain fixed point converges at the substep size too, Newton
-//     only in fewer iterations).
-//     Cost: docs/performance.md ("Where the instructions go") counts a kick + DMV step source line by
-//     source line (benchmarks/callgrind_steps.sh); the solve is the largest part. The project builds for
-//     baseline x86-64 (and a run-time dispatched AVX2 copy, splitting.hpp, with the same results bit for
-//     bit). Fewer instructions at the baseline would need fewer sweeps, which no cheap predictor gives
-//     (dmv_solve), or weaker guarantees.
-//
-// (c) PreprocessedDmv<r> — Hairer & Vilmart, J. Phys. A 39 (2006) 13225: DMV applied with modified
-//     inverse moments 1/Ĩ_i = σ/I_i + δ, where σ = 1 + Σ_k s_k(η, χ), δ = Σ_k d_k(η, χ) are polynomials
-//     in η = ½h²|Π|² and χ = h² H (H = ½ Σ Π_i²/I_i) with coefficients that are rational functions of
-//     the moments, has order 2r on the free body (r = 2, 3, 4, 5: orders 4, 6, 8, 10) for a few dozen
-//     flops more per step. The coefficients (hv_coefficients below, degrees 1–4 in (η, χ)) are those of
-//     the authors' published Fortran code DMV10.f (version of 29 Aug 2006, corrected 28 Dec 2007); we
-//     could not read the paper itself, so we cite no equation number for them. They are checked here by
-//     the measured orders 4, 6, 8, 10 on the free body (tests/integrators/test_dmv.cpp, in long double against a
-//     long-double reference). DMV preserves |Π| and H exactly, so Ĩ is the same computed from the start
-//     or the end of the step: the method stays symmetric. It is not claimed symplectic: Ĩ depends on the
-//     state through H and |Π|, and whether the paper proves the map symplectic could not be checked (the
-//     paper's text, and its preprint unige.ch/~hairer/preprints/predmv.pdf named in the code's header,
-//     were not available to us; the header of the authors' DMV10.f, which we read, describes the method
-//     and its Strang splitting with a potential but says nothing on symplecticity), so the trait stays
-//     false. m and |Π| are kept to round-off.
-//
-// Non-diagonal J: PrincipalAxes diagonalises it once. For double it is Eigen's symmetric eigensolver;
-// for ceres::Jet the value part is diagonalised in double and the derivative parts follow by first-order
-// perturbation theory (dI_i = (Qᵀ dJ Q)_ii, dQ = Q K with K_ij = (Qᵀ dJ Q)_ij/(I_j − I_i)), exact for
-// first derivatives when the principal moments are distinct (a derivative that splits two equal moments
-// is not representable by a smooth Q and is dropped: see PrincipalAxes).
+/// \file
+/// lgi/integrators/free_body_flows.hpp — approximate and exact-in-pieces flows of the free rigid body in
+/// principal axes, the building blocks of the heavy-top splittings (splitting.hpp).
+///
+/// Setting. Principal axes: J = Q diag(I) Qᵀ (Q a rotation, I the principal moments), body momentum
+/// Π = Qᵀ J Ω and attitude R_p = R Q, stored as a unit quaternion q (R_p = R(q)). Free-body flow of
+/// H = ½ Σ Π_i²/I_i:  Π' = Π × Ω,  R_p' = R_p hat(Ω),  Ω_i = Π_i/I_i. Every flow below maps (q, Π) to
+/// (q ⊗ p, R(p)ᵀ Π) for some unit quaternion p: the spatial momentum m = R_p Π is kept to round-off by
+/// construction, |Π| too, and R stays on SO(3) (q is renormalised each step — (a) without a square root,
+/// q ← q (3 − |q|²)/2, (b, c) by the 1/√(|q|² α) that normalises the DMV rotation anyway — so |q| − 1
+/// stays at round-off instead of random-walking).
+///
+/// (a) AxisRotations — splitting of H into the three exactly solvable H_i = Π_i²/(2I_i) (McLachlan,
+///     Phys. Rev. Lett. 71 (1993) 3043; Touma & Wisdom, Astron. J. 107 (1994) 1189; Reich, Physica D 76
+///     (1994) 375; Dullweber, Leimkuhler & McLachlan, J. Chem. Phys. 107 (1997) 5840). The flow of H_i
+///     for a time τ rotates about e_i by θ = τ Π_i/I_i:  q ← q ⊗ (cos θ/2, sin θ/2 e_i),  (Π_j, Π_k) ←
+///     rotation by −θ. Composed symmetrically, a(h/2) b(h/2) c(h) b(h/2) a(h/2): order 2, symmetric,
+///     symplectic (a composition of exact Hamiltonian flows); |Π| and m exact to round-off, H with a
+///     bounded O(h²) error. The size of that error depends on the order (a, b, c) by orders of
+///     magnitude (Fassò, J. Comput. Phys. 189 (2003) 527, "Comparison of splitting algorithms for the rigid
+///     body": its abstract, which we read, says the comparison rests on the dominant term of the modified
+///     Hamiltonian, that the energy errors of the algorithms differ by several orders of magnitude, and that
+///     for the flat body I ∝ (1, 0.75, 0.25) one of them is of order four; HLW 2nd ed. §VII.5.3 cites it for
+///     this comparison. The paper's text was not available, so its selection rule is not quoted here). The
+///     default order is chosen by measurement over all six orders (tests/integrators/test_splitting.cpp): smallest
+///     moment outermost, intermediate in the middle, largest innermost with the full step — the order
+///     that is of fourth order for Fassò's flat body I ∝ (1, 0.75, 0.25), see axis_order_for().
+///     Overridable by the scene key "axis_order" (StepperOptions::axis_order, [outer, middle, inner]):
+///     axis i is the body axis e_i when J is diagonal, else the principal axis of the i-th smallest moment.
+///
+/// (b) Dmv — the discrete Moser–Veselov algorithm (Moser & Veselov, Comm. Math. Phys. 139 (1991) 217),
+///     equivalently RATTLE for the free body (Hairer, Lubich & Wanner, Geometric Numerical Integration,
+///     2nd ed. 2006, §VII.5.3): with the quaternion p = (1, c)/√α, α = 1 + |c|², the step solves
+///       c_i = α w_i + ((I_j − I_k)/I_i) c_j c_k,   w_i = h Π_i/(2 I_i),   (i, j, k) cyclic
+///     (HLW eq. (VII.5.27) in Hairer's fast 3-variable form; the same equation the LGVI solves in the
+///     body frame, lgvi.hpp: G(c) = Jc + c × Jc − ½ α hΠ = 0), then q ← q ⊗ p, Π ← R(p)ᵀ Π (written
+///     Π + (2/α)(c × (c × Π) − c × Π), so m = R Π is kept for any c, converged or not, to the rounding of
+///     α; dmv_solve says which α). The fixed point
+///     (Gauss–Seidel sweeps from a one-sweep predictor; the number before the first convergence test
+///     predicted from |w|, DmvSweepTable) contracts by ≈ |c|·max|I_j − I_k|/I_i per sweep and runs until
+///     c is exact to round-off, proven by a bound on the contraction (4 sweeps at h|Ω| = 0.03; a solve
+///     stopped at a relative tolerance makes step(h) and step(−h) inverse only to that tolerance, see
+///     dmv_solve); where it stalls (worse than ¼ per sweep) or the bound cannot hold (|w| > ≈ 0.1, i.e.
+///     h|Ω| > ≈ 0.2) Newton on G takes over (dmv_newton_update, Cramer's rule; the same equation and
+///     Jacobian as the LGVI's, written for principal axes). Order 2, symmetric,
+///     symplectic; for a steady rotation about a principal axis it advances asin(h|Ω|) instead of h|Ω|
+///     (McLachlan & Zanna, Found. Comput. Math. 5 (2005) 87). The equation has no solution once h|Π|
+///     exceeds about max I (on a principal axis: h|Ω| > 1); the flow then takes ⌈h|Π|/min I⌉ substeps
+///     (dmv_substeps), so it stays finite and bounded at any step (h|Ω| = 3: tests/integrators/test_dmv.cpp; there the
+///     substeps are what keep it finite — the plain fixed point converges at the substep size too, Newton
+///     only in fewer iterations).
+///     Cost: docs/performance.md ("Where the instructions go") counts a kick + DMV step source line by
+///     source line (benchmarks/callgrind_steps.sh); the solve is the largest part. The project builds for
+///     baseline x86-64 (and a run-time dispatched AVX2 copy, splitting.hpp, with the same results bit for
+///     bit). Fewer instructions at the baseline would need fewer sweeps, which no cheap predictor gives
+///     (dmv_solve), or weaker guarantees.
+///
+/// (c) `PreprocessedDmv<r>` — Hairer & Vilmart, J. Phys. A 39 (2006) 13225: DMV applied with modified
+///     inverse moments 1/Ĩ_i = σ/I_i + δ, where σ = 1 + Σ_k s_k(η, χ), δ = Σ_k d_k(η, χ) are polynomials
+///     in η = ½h²|Π|² and χ = h² H (H = ½ Σ Π_i²/I_i) with coefficients that are rational functions of
+///     the moments, has order 2r on the free body (r = 2, 3, 4, 5: orders 4, 6, 8, 10) for a few dozen
+///     flops more per step. The coefficients (hv_coefficients below, degrees 1–4 in (η, χ)) are those of
+///     the authors' published Fortran code DMV10.f (version of 29 Aug 2006, corrected 28 Dec 2007); we
+///     could not read the paper itself, so we cite no equation number for them. They are checked here by
+///     the measured orders 4, 6, 8, 10 on the free body (tests/integrators/test_dmv.cpp, in long double against a
+///     long-double reference). DMV preserves |Π| and H exactly, so Ĩ is the same computed from the start
+///     or the end of the step: the method stays symmetric. It is not claimed symplectic: Ĩ depends on the
+///     state through H and |Π|, and whether the paper proves the map symplectic could not be checked (the
+///     paper's text, and its preprint unige.ch/~hairer/preprints/predmv.pdf named in the code's header,
+///     were not available to us; the header of the authors' DMV10.f, which we read, describes the method
+///     and its Strang splitting with a potential but says nothing on symplecticity), so the trait stays
+///     false. m and |Π| are kept to round-off.
+///
+/// Non-diagonal J: PrincipalAxes diagonalises it once. For double it is Eigen's symmetric eigensolver;
+/// for ceres::Jet the value part is diagonalised in double and the derivative parts follow by first-order
+/// perturbation theory (dI_i = (Qᵀ dJ Q)_ii, dQ = Q K with K_ij = (Qᵀ dJ Q)_ij/(I_j − I_i)), exact for
+/// first derivatives when the principal moments are distinct (a derivative that splits two equal moments
+/// is not representable by a smooth Q and is dropped: see PrincipalAxes).
 #pragma once
 
 #include "../core/state_io.hpp"
@@ -94,17 +95,18 @@
 
 namespace lgi {
 
-// A quaternion (w, v) representing R(q) = I + (2/|q|²)(w hat(v) + hat(v)²); unit to round-off in use.
+/// A quaternion (w, v) representing R(q) = I + (2/|q|²)(w hat(v) + hat(v)²); unit to round-off in use.
 template <class T>
 struct Quaternion {
-  T w = T(1);
-  Vec3<T> v = Vec3<T>::Zero();
+  T w = T(1);                   ///< the scalar part
+  Vec3<T> v = Vec3<T>::Zero();  ///< the vector part
   LGI_NUMBERS(w, v)
 };
 
+/// Quaternion helpers of the free-body flows and the splittings.
 namespace quat {
 
-// R(q), orthogonal to round-off for any q ≠ 0 (the 2/|q|² scaling absorbs |q| ≠ 1).
+/// R(q), orthogonal to round-off for any q ≠ 0 (the 2/|q|² scaling absorbs |q| ≠ 1).
 template <class T>
 Mat3<T> to_matrix(const Quaternion<T>& q) {
   const T s = T(2) / (q.w * q.w + q.v.squaredNorm());
@@ -112,8 +114,8 @@ Mat3<T> to_matrix(const Quaternion<T>& q) {
   return R;
 }
 
-// The unit quaternion with R(q) = R (R a rotation), w ≥ 0 (Shepperd's choice of the largest pivot, so
-// no square root of a small or negative number — also for Jets).
+/// The unit quaternion with R(q) = R (R a rotation), w ≥ 0 (Shepperd's choice of the largest pivot, so
+/// no square root of a small or negative number — also for Jets).
 template <class T>
 Quaternion<T> from_matrix(const Mat3<T>& R) {
   using std::sqrt;
@@ -145,11 +147,11 @@ Quaternion<T> from_matrix(const Mat3<T>& R) {
   return q;
 }
 
-// A rotation A with A a = |a| e3 (norm returns |a|): A = 1 exactly when a = |a| e3. For a₃ ≥ 0 the
-// rotation about a × e3 (Rodrigues with sin θ = |n|, cos θ = â₃: A = 1 + hat(n) + hat(n)²/(1 + â₃),
-// n = â × e3); for a₃ < 0 that rotation after the half turn diag(1, −1, −1), so 1 + â₃ is never small.
-// Smooth in a (Jets: derivatives follow) away from a₃ = 0, where both branches are rotations and the
-// choice only changes the internal frame. a = 0: A = 1, norm 0.
+/// A rotation A with A a = |a| e3 (norm returns |a|): A = 1 exactly when a = |a| e3. For a₃ ≥ 0 the
+/// rotation about a × e3 (Rodrigues with sin θ = |n|, cos θ = â₃: A = 1 + hat(n) + hat(n)²/(1 + â₃),
+/// n = â × e3); for a₃ < 0 that rotation after the half turn diag(1, −1, −1), so 1 + â₃ is never small.
+/// Smooth in a (Jets: derivatives follow) away from a₃ = 0, where both branches are rotations and the
+/// choice only changes the internal frame. a = 0: A = 1, norm 0.
 template <class T>
 Mat3<T> rotation_to_e3(const Vec3<T>& a, T& norm) {
   using std::sqrt;
@@ -170,7 +172,7 @@ Mat3<T> rotation_to_e3(const Vec3<T>& a, T& norm) {
   return A;
 }
 
-// q ← q (3 − |q|²)/2: one Newton step towards |q| = 1 (no square root), written as an increment.
+/// q ← q (3 − |q|²)/2: one Newton step towards |q| = 1 (no square root), written as an increment.
 template <class T>
 void renormalise(Quaternion<T>& q) {
   const T e = T(0.5) * (T(1) - (q.w * q.w + q.v(0) * q.v(0) + q.v(1) * q.v(1) + q.v(2) * q.v(2)));
@@ -228,6 +230,9 @@ inline void multiply_increment_vector(Quaternion<double>& q, double x, double y,
 #endif
 }  // namespace detail
 
+/// q ← q ⊗ (1, (x, y, z))/√(a |q|²), written as an increment of q (a = 1 + x² + y² + z² makes the factor a unit
+/// quaternion; the |q|² in the root renormalises q as it goes). In double with GCC, the same operations in two-lane
+/// vector code.
 template <class T>
 void multiply_increment(Quaternion<T>& q, const T& x, const T& y, const T& z, const T& a) {
 #if defined(__GNUC__) && !defined(__clang__)
@@ -246,12 +251,12 @@ void multiply_increment(Quaternion<T>& q, const T& x, const T& y, const T& z, co
 // ---------------------------------------------------------------------------------------------------
 // (a) Axis rotations.
 
-// The default axis order (outer, middle, inner) for moments I: the smallest moment outermost, the
-// intermediate in the middle, the largest integrated with the full step innermost. Checked against all six
-// orders (see the header; tests/integrators/test_splitting.cpp, AxisOrderChangesEnergyErrorByOrdersOfMagnitude):
-// the best order on two of its three bodies and within 3× of the best on the third; on the flat body
-// I ∝ (1, 0.75, 0.25) it is the order whose h² error term vanishes (energy error below 1e-4 × the worst order's:
-// Fassò's fourth-order case; the figures are in docs/validation.md).
+/// The default axis order (outer, middle, inner) for moments I: the smallest moment outermost, the
+/// intermediate in the middle, the largest integrated with the full step innermost. Checked against all six
+/// orders (see the header; tests/integrators/test_splitting.cpp, AxisOrderChangesEnergyErrorByOrdersOfMagnitude):
+/// the best order on two of its three bodies and within 3× of the best on the third; on the flat body
+/// I ∝ (1, 0.75, 0.25) it is the order whose h² error term vanishes (energy error below 1e-4 × the worst order's:
+/// Fassò's fourth-order case; the figures are in docs/validation.md).
 template <class T>
 std::array<int, 3> axis_order_for(const Vec3<T>& I) {
   std::array<int, 3> idx{0, 1, 2};
@@ -259,10 +264,13 @@ std::array<int, 3> axis_order_for(const Vec3<T>& I) {
   return idx;  // outer: smallest, middle: intermediate, inner: largest
 }
 
+/// Flow (a) of the header: the free body as five exact principal-axis rotations, symmetric, explicit, order 2.
 template <class T>
 class AxisRotations {
  public:
+  /// Unit moments, axis order 1, 2, 3.
   AxisRotations() = default;
+  /// Principal moments I (> 0); options.axis_order, or axis_order_for(I) when it is {0, 0, 0}.
   AxisRotations(const Vec3<T>& I, const StepperOptions& options) : inv_I_(I.cwiseInverse()) {
     if (options.axis_order[0] == 0) {
       order_ = axis_order_for(I);
@@ -271,18 +279,18 @@ class AxisRotations {
     }
   }
 
-  // The five rotations are composed into one quaternion p = 1 + (δw, u) (kept as an increment, so its
-  // rounding scales with the small angles) while Π is rotated along to give the angles; then q ← q ⊗ p
-  // and Π ← R(p)ᵀ Π₀, each rounded once per step instead of five times (m·k after 10⁷ HV-top steps:
-  // 1.3e-12 with five sequential updates, see tests/integrators/test_splitting.cpp for the figure with one).
+  /// The five rotations are composed into one quaternion p = 1 + (δw, u) (kept as an increment, so its
+  /// rounding scales with the small angles) while Π is rotated along to give the angles; then q ← q ⊗ p
+  /// and Π ← R(p)ᵀ Π₀, each rounded once per step instead of five times (m·k after 10⁷ HV-top steps:
+  /// 1.3e-12 with five sequential updates, see tests/integrators/test_splitting.cpp for the figure with one).
   LGI_FLATTEN StepStatus operator()(Quaternion<T>& q, Vec3<T>& Pi, const T& h) {
     Vec3<T> dPi;
     const StepStatus s = advance(q, Pi, h, dPi);
     Pi += dPi;
     return s;
   }
-  // The same step, with Π's increment R(p)ᵀΠ − Π returned instead of added (splitting.hpp adds it with the
-  // kicks in one rounding).
+  /// The same step, with Π's increment R(p)ᵀΠ − Π returned instead of added (splitting.hpp adds it with the
+  /// kicks in one rounding).
   StepStatus advance(Quaternion<T>& q, const Vec3<T>& Pi, const T& h, Vec3<T>& dPi) {
     const T half = T(0.5) * h;
     Vec3<T> P = Pi;
@@ -307,10 +315,11 @@ class AxisRotations {
     return StepStatus::ok;
   }
 
+  /// The axes (0-based) in the order outer, middle, inner.
   const std::array<int, 3>& order() const { return order_; }
 
  private:
-  // Exact flow of H_i = Π_i²/(2 I_i) for a time tau, composed into p = 1 + (dw, u) and applied to P.
+  /// Exact flow of H_i = Π_i²/(2 I_i) for a time tau, composed into p = 1 + (dw, u) and applied to P.
   void rotate(int i, const T& tau, T& dw, Vec3<T>& u, Vec3<T>& P) const {
     using std::cos;
     using std::sin;
@@ -351,8 +360,8 @@ class AxisRotations {
 // ---------------------------------------------------------------------------------------------------
 // (b) DMV in principal axes.
 
-// Newton update Δ = dG⁻¹ G for G_i(c) = I_i c_i + d_i c_j c_k − ½ α μ_i, α = 1 + |c|², d_i = I_k − I_j,
-// μ = hΠ; dG = diag(I) + off-diagonal d_i c_k (column j), d_i c_j (column k), minus μ cᵀ. Cramer's rule.
+/// Newton update Δ = dG⁻¹ G for G_i(c) = I_i c_i + d_i c_j c_k − ½ α μ_i, α = 1 + |c|², d_i = I_k − I_j,
+/// μ = hΠ; dG = diag(I) + off-diagonal d_i c_k (column j), d_i c_j (column k), minus μ cᵀ. Cramer's rule.
 template <class T>
 Vec3<T> dmv_newton_update(const Vec3<T>& c, const Vec3<T>& I, const Vec3<T>& d, const Vec3<T>& half_mu) {
   const T a = T(1) + c.squaredNorm();
@@ -367,49 +376,57 @@ Vec3<T> dmv_newton_update(const Vec3<T>& c, const Vec3<T>& I, const Vec3<T>& d, 
   return (G(0) * c12 + G(1) * c20 + G(2) * c01) / r0.dot(c12);
 }
 
-// Counters of the DMV solver (diagnostics).
+/// Counters of the DMV solver (diagnostics).
 struct DmvCounters {
-  // Fixed-point sweeps beyond DmvSweepTable's prediction (a first convergence test that failed). The
-  // predicted ones are not counted: a counter bumped every step is a measurable part of a kick + DMV step
-  // (docs/performance.md, "Design measurements behind the code").
+  /// Fixed-point sweeps beyond DmvSweepTable's prediction (a first convergence test that failed). The
+  /// predicted ones are not counted: a counter bumped every step is a measurable part of a kick + DMV step
+  /// (docs/performance.md, "Design measurements behind the code").
   std::int64_t extra_sweeps = 0;
-  std::int64_t newton = 0;  // Newton updates
-  std::int64_t fallbacks = 0;  // steps where the fixed point stalled and Newton took over
-  std::int64_t substeps = 0;   // substeps taken where h|Π| > min I (dmv_substeps)
+  std::int64_t newton = 0;  ///< Newton updates
+  std::int64_t fallbacks = 0;  ///< steps where the fixed point stalled and Newton took over
+  std::int64_t substeps = 0;   ///< substeps taken where h|Π| > min I (dmv_substeps)
 };
 
-// Constants of the DMV fixed point that depend on the moments only, computed once per flow.
-//
-// Contraction bound (used by the convergence test of dmv_solve). One Gauss–Seidel sweep maps c to c' with
-// c'_i = F_i(α(c̃) w_i, c̃_j, c̃_k), c̃ the latest values; ∂F_i/∂c = 2w_i c + r_i (c_k e_j + c_j e_k) has
-// 1-norm ≤ 2|w_i|·√3|c| + |r_i|·√2|c|, so in the max norm ‖c' − c*‖ ≤ ρ‖c − c*‖ with
-// ρ ≤ (2√3|w| + √2 r)|c| (r = max|r_i|, |c| the largest along the segments from the iterate to the
-// solution c*), and ρ² ≤ (2.2 r² + 252|w|²)|c|² (as 4√6 r|w| ≤ 0.2 r² + 240|w|²), no square root needed.
-// The error after a sweep whose update is Δ is then ‖c' − c*‖ ≤ ρ/(1 − ρ)‖Δ‖ (max norm).
-//
-// sweeps(|w|²): after how many Gauss–Seidel sweeps the convergence test is first made, from a model of
-// the iteration: the predictor leaves an error ≈ A|w|³, each sweep multiplies it by ≈ B|w|, with
-// A = 0.1 r² + 0.005 and B = 0.1 r + 2|w|; the test passes when (4/3)·ρ·(update) ≤ target. A and B follow the
-// median case of random momentum directions on six bodies (their distribution: docs/findings.md). The model is not
-// a bound: it only decides where the test is first made; a prediction one short costs one more sweep and test,
-// never accuracy.
-// quick_w2: below this |w|² = ¼h²|Π/I|² one substep certainly suffices (h|Π| ≤ 2 max I |w| ≤ min I), so
-// dmv_substeps need not be evaluated (1 % margin for rounding).
+/// Constants of the DMV fixed point that depend on the moments only, computed once per flow.
+///
+/// Contraction bound (used by the convergence test of dmv_solve). One Gauss–Seidel sweep maps c to c' with
+/// c'_i = F_i(α(c̃) w_i, c̃_j, c̃_k), c̃ the latest values; ∂F_i/∂c = 2w_i c + r_i (c_k e_j + c_j e_k) has
+/// 1-norm ≤ 2|w_i|·√3|c| + |r_i|·√2|c|, so in the max norm ‖c' − c*‖ ≤ ρ‖c − c*‖ with
+/// ρ ≤ (2√3|w| + √2 r)|c| (r = max|r_i|, |c| the largest along the segments from the iterate to the
+/// solution c*), and ρ² ≤ (2.2 r² + 252|w|²)|c|² (as 4√6 r|w| ≤ 0.2 r² + 240|w|²), no square root needed.
+/// The error after a sweep whose update is Δ is then ‖c' − c*‖ ≤ ρ/(1 − ρ)‖Δ‖ (max norm).
+///
+/// sweeps(|w|²): after how many Gauss–Seidel sweeps the convergence test is first made, from a model of
+/// the iteration: the predictor leaves an error ≈ A|w|³, each sweep multiplies it by ≈ B|w|, with
+/// A = 0.1 r² + 0.005 and B = 0.1 r + 2|w|; the test passes when (4/3)·ρ·(update) ≤ target. A and B follow the
+/// median case of random momentum directions on six bodies (their distribution: docs/findings.md). The model is not
+/// a bound: it only decides where the test is first made; a prediction one short costs one more sweep and test,
+/// never accuracy.
+/// quick_w2: below this |w|² = ¼h²|Π/I|² one substep certainly suffices (h|Π| ≤ 2 max I |w| ≤ min I), so
+/// dmv_substeps need not be evaluated (1 % margin for rounding).
 template <class V>
 struct DmvSweepTable {
-  static constexpr int max_sweeps = 12;
-  std::array<V, max_sweeps + 1> w2{};  // w2[k]: the largest |w|² for which k sweeps are predicted to do
-  V quick_w2 = 0;
-  V tol2 = 0;                                                            // tolerance²
+  static constexpr int max_sweeps = 12;  ///< fixed-point sweeps before Newton takes over
+  std::array<V, max_sweeps + 1> w2{};  ///< w2[k]: the largest |w|² for which k sweeps are predicted to do
+  V quick_w2 = 0;  ///< below this |w|², one substep (above)
+  V tol2 = 0;                                                            ///< tolerance²
+  /// (ε/4)², the round-off target.
   V round_off2 = V(0.25) * std::numeric_limits<V>::epsilon() * V(0.25) * std::numeric_limits<V>::epsilon();
-  V rho_w = 0, rho_r = 0;  // ρ² ≤ (rho_w |w|² + rho_r)|c|²: 252 and 2.2 r²
-  V fixed_point_w2 = 0;    // above this |w|², ρ ≤ ¼ cannot be shown (|c|² ≤ 1.2|w|²): Newton from the start
-  // The same constants as dmv_solve's test uses them: (9/16) target² = min(test_tol2 |w|², test_round_off2),
-  // ρ² ≤ (test_rho_w |w|² + test_rho_r)(|c|² + 300 U) (factors 9/16 and 1.02 folded in once, not per step)
+  ///@{
+  /// ρ² ≤ (rho_w |w|² + rho_r)|c|²: 252 and 2.2 r².
+  V rho_w = 0, rho_r = 0;
+  ///@}
+  V fixed_point_w2 = 0;    ///< above this |w|², ρ ≤ ¼ cannot be shown (|c|² ≤ 1.2|w|²): Newton from the start
+  ///@{
+  /// The same constants as dmv_solve's test uses them: (9/16) target² = min(test_tol2 |w|², test_round_off2),
+  /// ρ² ≤ (test_rho_w |w|² + test_rho_r)(|c|² + 300 U) (factors 9/16 and 1.02 folded in once, not per step)
   V test_tol2 = 0, test_round_off2 = 0, test_rho_w = 0, test_rho_r = 0;
-  V fast_w2 = 0;  // min(quick_w2, fixed_point_w2)
+  ///@}
+  V fast_w2 = 0;  ///< min(quick_w2, fixed_point_w2)
 
+  /// All zeros: a placeholder, to be assigned a table built from the moments.
   DmvSweepTable() = default;
+  /// The table for r_max = max|r_i|, the smallest and largest moments and the Newton tolerance (StepperOptions).
   DmvSweepTable(V r_max, V min_I, V max_I, V tol)
       : quick_w2(V(0.99) * min_I * min_I / (V(4) * max_I * max_I)), tol2(tol * tol), rho_w(V(252)),
         rho_r(V(2.2) * r_max * r_max) {
@@ -447,7 +464,8 @@ struct DmvSweepTable {
     for (int k = 2; k <= max_sweeps; ++k)
       w2[static_cast<std::size_t>(k)] = std::max(w2[static_cast<std::size_t>(k)], w2[static_cast<std::size_t>(k - 1)]);
   }
-  int sweeps(V W2) const {  // the smallest k ≥ 1 with W2 ≤ w2[k] (max_sweeps if none; 1 for NaN)
+  /// The smallest k ≥ 1 with W2 ≤ w2[k] (max_sweeps if none; 1 for NaN).
+  int sweeps(V W2) const {
     if (!(W2 > w2[2])) return W2 > w2[1] ? 2 : 1;  // two comparisons up to 4 sweeps (w2 non-decreasing)
     if (!(W2 > w2[4])) return W2 > w2[3] ? 4 : 3;
     int k = 5;
@@ -456,39 +474,39 @@ struct DmvSweepTable {
   }
 };
 
-// Solves c_i = α w_i + r_i c_j c_k (w_i = ½h Π_i/I_i, r_i = (I_j − I_k)/I_i = −d_i/I_i) for c; see the header.
-// w and W2 = |w|² (its value part) come from the caller, which needs them for the substep decision.
-//
-// Iteration: the predictor is one Gauss–Seidel sweep from c = w (error O(|w|³), much smaller than that of
-// Hairer's explicit predictor c_i = w_i + r_i c_j c_k, which lacks the α|w|² w term, for 4 more flops:
-// docs/findings.md); then Gauss–Seidel sweeps, the first convergence test after table.sweeps(W2) (the sweeps
-// before it unrolled). Fewer sweeps need a better start than the predictor gives: on the HV top at h = 0.01 the
-// error after the predictor and 3 sweeps is above ε/4 on part of the trajectory, and the better predictors
-// tried (an explicit series through |w|³, a sweep from c = w + r∘(w_j w_k)) are no better after two more sweeps
-// (docs/performance.md, "Where the instructions go"), so even a test that knew the error exactly would need the
-// 4th sweep there.
-//
-// Accuracy: the solution is wanted to round-off, not to a tolerance. c enters the state as an increment
-// of the unit quaternion, so an error δc moves the state by ≈ 2|δc| (and Π by ≈ 2|Π||δc|): the sweeps stop
-// when every component's remaining error is below ε/4 (ε of the value type; or below tolerance·|w| where
-// that is smaller, at tiny steps) by the contraction bound of DmvSweepTable: with U the squared update of
-// the last sweep, ρ² ≤ P = 1.02 (2.2r² + 252|w|²)(|c|² + 300U) (|c|² at the sweep's start; the
-// second term covers the distance to the solution: (x + y)² ≤ 1.02x² + 51y², |e|² ≤ 3 (4/3)² U),
-// converged when P ≤ 1/16 (ρ ≤ ¼) and (16/9)·P·U ≤ target². That is a bound, not an estimate, and it
-// needs the update of the last sweep only (an estimate of ρ from two updates costs a second one). Newton
-// (below) takes over when an update is not 16× smaller than the one before (contraction worse than ¼ per
-// sweep), on NaN/overflow, after max_sweeps, and from the start where the bound cannot reach ¼
-// (|w|² > table.fixed_point_w2, |w| ≈ 0.1, h|Ω| ≈ 0.2). Stopping at a relative tolerance instead leaves a
-// solution error that is not the same for the step h and its reverse −h, and the step is then symmetric only
-// to that error (docs/findings.md); converged to round-off, step(h) ∘ step(−h) returns to the start within
-// 2e-15 at h = 0.1 on the skew top (tests/integrators/test_splitting.cpp, StepThenReverseStepIsIdentity).
-//
-// alpha (for dmv_apply): α = 1 + |c|². Where the fixed point converged it is the α the test sweep started
-// from, not recomputed from the sweep's result (5 flops saved every step: docs/performance.md): the two differ
-// by 2c·Δ + |Δ|² (Δ the last update, ≈ 1e-16 at h|Ω| = 0.03), which changes the rounded α, by one ulp, in a
-// small fraction of the steps. |q| is then off by half an ulp, corrected the next step (q is renormalised from
-// its current norm); Π's rotation is orthogonal to ≈ 2|c| ulp(1) instead of to rounding in those steps. The
-// m·k random walk is the same with and without (docs/findings.md). Newton's result gets its own α.
+/// Solves c_i = α w_i + r_i c_j c_k (w_i = ½h Π_i/I_i, r_i = (I_j − I_k)/I_i = −d_i/I_i) for c; see the header.
+/// w and W2 = |w|² (its value part) come from the caller, which needs them for the substep decision.
+///
+/// Iteration: the predictor is one Gauss–Seidel sweep from c = w (error O(|w|³), much smaller than that of
+/// Hairer's explicit predictor c_i = w_i + r_i c_j c_k, which lacks the α|w|² w term, for 4 more flops:
+/// docs/findings.md); then Gauss–Seidel sweeps, the first convergence test after table.sweeps(W2) (the sweeps
+/// before it unrolled). Fewer sweeps need a better start than the predictor gives: on the HV top at h = 0.01 the
+/// error after the predictor and 3 sweeps is above ε/4 on part of the trajectory, and the better predictors
+/// tried (an explicit series through |w|³, a sweep from c = w + r∘(w_j w_k)) are no better after two more sweeps
+/// (docs/performance.md, "Where the instructions go"), so even a test that knew the error exactly would need the
+/// 4th sweep there.
+///
+/// Accuracy: the solution is wanted to round-off, not to a tolerance. c enters the state as an increment
+/// of the unit quaternion, so an error δc moves the state by ≈ 2|δc| (and Π by ≈ 2|Π||δc|): the sweeps stop
+/// when every component's remaining error is below ε/4 (ε of the value type; or below tolerance·|w| where
+/// that is smaller, at tiny steps) by the contraction bound of DmvSweepTable: with U the squared update of
+/// the last sweep, ρ² ≤ P = 1.02 (2.2r² + 252|w|²)(|c|² + 300U) (|c|² at the sweep's start; the
+/// second term covers the distance to the solution: (x + y)² ≤ 1.02x² + 51y², |e|² ≤ 3 (4/3)² U),
+/// converged when P ≤ 1/16 (ρ ≤ ¼) and (16/9)·P·U ≤ target². That is a bound, not an estimate, and it
+/// needs the update of the last sweep only (an estimate of ρ from two updates costs a second one). Newton
+/// (below) takes over when an update is not 16× smaller than the one before (contraction worse than ¼ per
+/// sweep), on NaN/overflow, after max_sweeps, and from the start where the bound cannot reach ¼
+/// (|w|² > table.fixed_point_w2, |w| ≈ 0.1, h|Ω| ≈ 0.2). Stopping at a relative tolerance instead leaves a
+/// solution error that is not the same for the step h and its reverse −h, and the step is then symmetric only
+/// to that error (docs/findings.md); converged to round-off, step(h) ∘ step(−h) returns to the start within
+/// 2e-15 at h = 0.1 on the skew top (tests/integrators/test_splitting.cpp, StepThenReverseStepIsIdentity).
+///
+/// alpha (for dmv_apply): α = 1 + |c|². Where the fixed point converged it is the α the test sweep started
+/// from, not recomputed from the sweep's result (5 flops saved every step: docs/performance.md): the two differ
+/// by 2c·Δ + |Δ|² (Δ the last update, ≈ 1e-16 at h|Ω| = 0.03), which changes the rounded α, by one ulp, in a
+/// small fraction of the steps. |q| is then off by half an ulp, corrected the next step (q is renormalised from
+/// its current norm); Π's rotation is orthogonal to ≈ 2|c| ulp(1) instead of to rounding in those steps. The
+/// m·k random walk is the same with and without (docs/findings.md). Newton's result gets its own α.
 template <class T>
 StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& w, value_type_t<T> W2, const Vec3<T>& I,
                      const Vec3<T>& r, const Vec3<T>& d, const DmvSweepTable<value_type_t<T>>& table,
@@ -583,8 +601,8 @@ StepStatus dmv_solve(const Vec3<T>& Pi, const T& h, const Vec3<T>& w, value_type
   return StepStatus::ok;
 }
 
-// q ← q ⊗ (1, c)/√α (quat::multiply_increment: renormalised, as an increment) and Π ← R((1, c)/√α)ᵀ Π =
-// Π + (2/α)(c × (c × Π) − c × Π), α = 1 + |c|² (from dmv_solve).
+/// q ← q ⊗ (1, c)/√α (quat::multiply_increment: renormalised, as an increment) and Π ← R((1, c)/√α)ᵀ Π =
+/// Π + (2/α)(c × (c × Π) − c × Π), α = 1 + |c|² (from dmv_solve).
 template <class T>
 Vec3<T> dmv_apply(const Vec3<T>& c, const T& a, Quaternion<T>& q, const Vec3<T>& Pi) {  // returns Π's increment
   const T x = c(0), y = c(1), z = c(2);
@@ -596,12 +614,12 @@ Vec3<T> dmv_apply(const Vec3<T>& c, const T& a, Quaternion<T>& q, const Vec3<T>&
   return Vec3<T>(t * (f0 - e0), t * (f1 - e1), t * (f2 - e2));
 }
 
-// Substeps of the DMV flow over h. The equation has a solution only while h|Π| is small enough: with
-// c = t u (|u| = 1), |hΠ|² = (4/α²)(|Ic|² + |c × Ic|²) ≤ I_max² + (I_max − I_min)² (as 4t²/(1 + t²)² ≤ 1,
-// 4t⁴/(1 + t²)² ≤ 4 and |u × Iu| ≤ (I_max − I_min)/2); on a principal axis exactly h|Ω| ≤ 1. Where
-// h|Π|/min I > 1 the flow takes m = ⌈h|Π|/min I⌉ equal DMV substeps (as the authors' code can, MSPLIT).
-// m depends on |Π| only, which the flow preserves, so the map stays symmetric; at ordinary steps m = 1
-// and this is plain DMV.
+/// Substeps of the DMV flow over h. The equation has a solution only while h|Π| is small enough: with
+/// c = t u (|u| = 1), |hΠ|² = (4/α²)(|Ic|² + |c × Ic|²) ≤ I_max² + (I_max − I_min)² (as 4t²/(1 + t²)² ≤ 1,
+/// 4t⁴/(1 + t²)² ≤ 4 and |u × Iu| ≤ (I_max − I_min)/2); on a principal axis exactly h|Ω| ≤ 1. Where
+/// h|Π|/min I > 1 the flow takes m = ⌈h|Π|/min I⌉ equal DMV substeps (as the authors' code can, MSPLIT).
+/// m depends on |Π| only, which the flow preserves, so the map stays symmetric; at ordinary steps m = 1
+/// and this is plain DMV.
 template <class T>
 int dmv_substeps(const Vec3<T>& Pi, const T& h, double min_I) {
   const double hv = static_cast<double>(value_of(h));
@@ -612,7 +630,7 @@ int dmv_substeps(const Vec3<T>& Pi, const T& h, double min_I) {
   return x < 1e6 ? static_cast<int>(std::ceil(x)) : 1000000;  // NaN: 1000000, and the solve reports it
 }
 
-// w = ½h Π/I (inverse moments given) and its squared norm's value part.
+/// w = ½h Π/I (inverse moments given) and its squared norm's value part.
 template <class T>
 Vec3<T> dmv_w(const Vec3<T>& Pi, const T& h, const Vec3<T>& inv_I, value_type_t<T>& W2) {
   const T half_h = T(0.5) * h;
@@ -621,10 +639,14 @@ Vec3<T> dmv_w(const Vec3<T>& Pi, const T& h, const Vec3<T>& inv_I, value_type_t<
   return w;
 }
 
+/// Flow (b) of the header: the discrete Moser–Veselov step (the LGVI's free-body map), symmetric, symplectic,
+/// order 2; an implicit solve for c (dmv_solve) in a few flops per sweep.
 template <class T>
 class Dmv {
  public:
+  /// Unit moments.
   Dmv() = default;
+  /// Principal moments I (> 0); options: the Newton tolerance and max_iterations.
   Dmv(const Vec3<T>& I, const StepperOptions& options)
       : I_(I), inv_I_(I.cwiseInverse()), options_(options),
         min_I_(static_cast<double>(value_of(I.minCoeff()))) {
@@ -635,14 +657,17 @@ class Dmv {
     table_ = DmvSweepTable<V>(r_max, V(value_of(I.minCoeff())), V(value_of(I.maxCoeff())), V(options.tolerance));
   }
 
+  /// One step of h: q ← q ⊗ p, Π ← R(p)ᵀ Π. ok; not_converged when the solve fails within max_iterations, or
+  /// non_finite; Π untouched unless ok, q possibly moved by the substeps before a failing one (the splittings
+  /// step a copy). Allocates nothing.
   LGI_FLATTEN StepStatus operator()(Quaternion<T>& q, Vec3<T>& Pi, const T& h) {
     Vec3<T> dPi;
     const StepStatus s = advance(q, Pi, h, dPi);
     if (s == StepStatus::ok) Pi += dPi;
     return s;
   }
-  // The same step, with Π's increment R(p)ᵀΠ − Π returned instead of added (splitting.hpp adds it with the
-  // kicks in one rounding).
+  /// The same step, with Π's increment R(p)ᵀΠ − Π returned instead of added (splitting.hpp adds it with the
+  /// kicks in one rounding).
   StepStatus advance(Quaternion<T>& q, const Vec3<T>& Pi, const T& h, Vec3<T>& dPi) {
     value_type_t<T> W2;
     const Vec3<T> w = dmv_w(Pi, h, inv_I_, W2);
@@ -663,6 +688,7 @@ class Dmv {
     dPi = sum;
     return StepStatus::ok;
   }
+  /// The solver's counters since construction.
   const DmvCounters& counters() const { return counters_; }
 
  private:
@@ -687,14 +713,18 @@ class Dmv {
 // ---------------------------------------------------------------------------------------------------
 // (c) Preprocessed DMV (Hairer & Vilmart 2006).
 
-// Coefficients of σ − 1 = Σ_{n=1}^{4} Σ_{j=0}^{n} s[n][j] η^(n−j) χ^j and δ = Σ d[n][j] η^(n−j) χ^j, with
-// η = ½h²|Π|², χ = h² H, as functions of the moments (DMV10.f: S3C*, D3C* → n = 1; S5C*, D5C* → 2;
-// S7C*, D7C* → 3; S9C*, D9C* → 4; C1 is the pure η power, the last the pure χ power).
+/// Coefficients of σ − 1 = Σ_{n=1}^{4} Σ_{j=0}^{n} s[n][j] η^(n−j) χ^j and δ = Σ d[n][j] η^(n−j) χ^j, with
+/// η = ½h²|Π|², χ = h² H, as functions of the moments (DMV10.f: S3C*, D3C* → n = 1; S5C*, D5C* → 2;
+/// S7C*, D7C* → 3; S9C*, D9C* → 4; C1 is the pure η power, the last the pure χ power).
 template <class T>
 struct HvCoefficients {
+  ///@{
+  /// s[n][j] and d[n][j], n = 1 … 4 (row 0 unused).
   std::array<std::array<T, 5>, 5> s{}, d{};
+  ///@}
 };
 
+/// The coefficients for principal moments I (> 0), in T (Jets: derivatives with respect to I follow).
 template <class T>
 HvCoefficients<T> hv_coefficients(const Vec3<T>& I) {
   const T a1 = I(0), a2 = I(1), a3 = I(2);
@@ -749,14 +779,16 @@ HvCoefficients<T> hv_coefficients(const Vec3<T>& I) {
   return k;
 }
 
-// Preprocessed DMV of order 2·R on the free body (R = 1: plain DMV with the modified-inertia machinery,
-// for testing; R = 2..5: orders 4..10).
+/// Preprocessed DMV of order 2·R on the free body (R = 1: plain DMV with the modified-inertia machinery,
+/// for testing; R = 2..5: orders 4..10).
 template <class T, int R>
 class PreprocessedDmv {
   static_assert(R >= 1 && R <= 5, "PreprocessedDmv: order 2R with R in 1..5");
 
  public:
+  /// Unit moments.
   PreprocessedDmv() = default;
+  /// Principal moments I (> 0); options: the Newton tolerance and max_iterations.
   PreprocessedDmv(const Vec3<T>& I, const StepperOptions& options)
       : inv_I_(I.cwiseInverse()), options_(options), k_(hv_coefficients(I)),
         min_I_(static_cast<double>(value_of(I.minCoeff()))) {
@@ -769,13 +801,14 @@ class PreprocessedDmv {
     table_ = DmvSweepTable<V>(r_max, Iv.minCoeff(), Iv.maxCoeff(), V(options.tolerance));
   }
 
+  /// One step of h of the modified-inertia DMV (header, (c)); status and contract as Dmv's.
   LGI_FLATTEN StepStatus operator()(Quaternion<T>& q, Vec3<T>& Pi, const T& h) {
     Vec3<T> dPi;
     const StepStatus s = advance(q, Pi, h, dPi);
     if (s == StepStatus::ok) Pi += dPi;
     return s;
   }
-  // The same step, with Π's increment returned instead of added (as Dmv::advance).
+  /// The same step, with Π's increment returned instead of added (as Dmv::advance).
   StepStatus advance(Quaternion<T>& q, const Vec3<T>& Pi, const T& h, Vec3<T>& dPi) {
     const int m = dmv_substeps(Pi, h, min_I_);
     if (m == 1) [[likely]]
@@ -791,8 +824,10 @@ class PreprocessedDmv {
     dPi = sum;
     return StepStatus::ok;
   }
+  /// The solver's counters since construction.
   const DmvCounters& counters() const { return counters_; }
-  HvCoefficients<T>& coefficients() { return k_; }  // for tests (a perturbed coefficient must lose the order)
+  /// The modified-inertia coefficients, writable: for tests (a perturbed coefficient must lose the order).
+  HvCoefficients<T>& coefficients() { return k_; }
 
  private:
   StepStatus substep(Quaternion<T>& q, const Vec3<T>& Pi, const T& h, Vec3<T>& dPi) {

@@ -1,58 +1,65 @@
-// lgi/integrators/lagrange_split.hpp — Strang splitting of an axisymmetric top: gravity kicks around the
-// exact free flow of the symmetric body.
-//
-// For J = diag(I1, I1, I3) the kinetic energy splits into two commuting parts whose flows are
-// rotations, H_T = |Π|²/(2 I1) + ½ (1/I3 − 1/I1) Π3² (|Π|² is a Casimir, so both Poisson-commute), and
-// the free flow over a time h is exact and elementary (derived here; it is the classical regular
-// precession of a free symmetric body, e.g. Landau & Lifshitz, Mechanics, §33):
-//
-//   Euler's equations:  Ω3' = 0,  (Ω1 + iΩ2)' = i λ (Ω1 + iΩ2),   λ = (I3 − I1) Ω3 / I1,
-//   so Ω(t) = exp(λt ê3) Ω(0): Ω precesses about the body axis e3 at the rate λ; and
-//   R(t) = R(0) exp(t Π/I1) exp(−λt ê3),   Π = JΩ(0)      [check: R'= R hat(exp(λt ê3)Ω(0)) = R hat(Ω(t)),
-//                                                          since exp(tΠ/I1)ᵀ fixes Π/I1 = Ω(0) + λ e3]
-//   i.e. a rotation about the fixed spatial momentum m = RΠ at the rate |Π|/I1, then a spin about the
-//   symmetry axis by φ = −λh = h Π3 (I1 − I3)/(I1 I3). In momentum form Π(h) = exp(−φ ê3) Π(0).
-//
-// One step (R, Π) → (R', Π'), with the body torque M(R) = b Γ × z0 of a top whose M3 ≡ 0:
-//
-//   kick     Π⁺ = Π + ½h M(R)                      (only Π1, Π2 change)
-//   drift    R' = R exp(h Π⁺/I1) exp(φ ê3),  φ = h Π⁺3 (I1 − I3)/(I1 I3);   Π⁻ = exp(−φ ê3) Π⁺
-//   kick     Π' = Π⁻ + ½h M(R')
-//
-// Carried in the frame that turns with the spin. Since Π3 is constant, the spin angle ψ of the symmetric
-// free flow grows by the same φ every step; any rotation by φ rounded to doubles has the same small defect
-// every step — (cos φ)² + (sin φ)² − 1 ≈ 4εφ², and an angle error, both fixed — and applied to R (a 3×3
-// product) it makes ‖RᵀR − I‖ and m·k drift linearly (docs/findings.md). So the state is (q̃, Π̃, ψ) with
-//   R = R(q̃) exp(ψ ê3),   Π = exp(−ψ ê3) Π̃:
-// in these variables the drift is R(q̃) ← R(q̃) exp(hΠ̃/I1) with Π̃ unchanged and ψ ← ψ + φ (a scalar sum,
-// kept in [−π, π) with 2π split in two doubles), and the kicks are Π̃ += ½h M(R(q̃)ᵀk) — the torque of an
-// axisymmetric top commutes with turns about e3, M(R exp(α ê3)) = exp(−α ê3) M(R) (its potential does not see
-// them: that is what M3 ≡ 0 means; the constructor checks it). No fixed rotation is applied to anything:
-// the rotation exp(hΠ̃/I1) changes with the kicks, q̃ is a unit quaternion renormalised by one Newton step each
-// step, and ψ enters only at the output, R = R(q̃) exp(ψ ê3). Checked by tests/problems/test_problem_library.cpp,
-// LagrangeSplit.LongRunAtLargeSteps: ‖RᵀR − I‖ and m·k stay below 1e-12 over 4·10⁶ steps at h = 0.3, growing no
-// faster than a random walk (growth exponent < 0.75). M is kept for the next step's first kick: one torque per
-// step; Γ̃ = R(q̃)ᵀk is read off q̃ without forming a matrix. Explicit, no solve, no step-size restriction from the
-// spin rate.
-//
-// Order 2 (Strang splitting φ^[V]_{h/2} ∘ φ^[T]_h ∘ φ^[V]_{h/2}: Strang, SIAM J. Numer. Anal. 5 (1968) 506; Hairer,
-// Lubich & Wanner, Geometric Numerical Integration, 2nd ed., §II.5, eq. (II.5.3), which they call the Strang
-// splitting (Strang 1968) and show to be symmetric and of order 2 — checked against the book's text; the observed
-// order is 2 ± 0.2 in tests/problems/test_problem_library.cpp). Symplectic and symmetric (composition of exact
-// Hamiltonian flows, symmetric arrangement; HLW Example II.5.1 makes the same argument for Störmer–Verlet).
-// Preserves exactly: R on SO(3) to round-off (products of rotations); m_ψ = Π3 = I3 Ω3 bit for bit in the stepped
-// state (no operation touches Π3; m_ψ is a linear invariant, Ω3' ≡ 0, so RKMK4 and the LGVI keep it to round-off as
-// well: tests/problems/test_problem_library.cpp); m·k to round-off (the kick adds a vector ⊥ Γ = Rᵀk, the drift
-// preserves m = RΠ); energy bounded (no drift). Exact (to round-off) when b = 0: it is then the free symmetric
-// body's flow, so it integrates the fast spin of a gyroscope exactly and only the gravity kicks carry the O(h²)
-// error — the regime of the fast Lagrange top (Brüls, Cardona, Arnold 2012; shared/NUMERICS.md: "integrate the spin
-// about the symmetry axis exactly"). Using the exact symmetric free flow inside splittings: Celledoni, Fassò,
-// Säfström, Zanna, SIAM J. Sci. Comput. 30 (2008) 2084, §1 (no equation number there for this flow; the formulas
-// above are derived in this header and verified by the tests).
-//
-// Applies to problems that declare `static constexpr bool axisymmetric = true` (LagrangeTop): their
-// inertia is diag(I1, I1, I3) — checked by the constructor, which throws std::invalid_argument
-// otherwise — and their torque has M3 ≡ 0 (the step does not read M3).
+/// \file
+/// lgi/integrators/lagrange_split.hpp — Strang splitting of an axisymmetric top: gravity kicks around the
+/// exact free flow of the symmetric body.
+///
+/// For J = diag(I1, I1, I3) the kinetic energy splits into two commuting parts whose flows are
+/// rotations, H_T = |Π|²/(2 I1) + ½ (1/I3 − 1/I1) Π3² (|Π|² is a Casimir, so both Poisson-commute), and
+/// the free flow over a time h is exact and elementary (derived here; it is the classical regular
+/// precession of a free symmetric body, e.g. Landau & Lifshitz, Mechanics, §33):
+///
+/// ~~~{.unparsed}
+///   Euler's equations:  Ω3' = 0,  (Ω1 + iΩ2)' = i λ (Ω1 + iΩ2),   λ = (I3 − I1) Ω3 / I1,
+///   so Ω(t) = exp(λt ê3) Ω(0): Ω precesses about the body axis e3 at the rate λ; and
+///   R(t) = R(0) exp(t Π/I1) exp(−λt ê3),   Π = JΩ(0)      [check: R'= R hat(exp(λt ê3)Ω(0)) = R hat(Ω(t)),
+///                                                          since exp(tΠ/I1)ᵀ fixes Π/I1 = Ω(0) + λ e3]
+///   i.e. a rotation about the fixed spatial momentum m = RΠ at the rate |Π|/I1, then a spin about the
+///   symmetry axis by φ = −λh = h Π3 (I1 − I3)/(I1 I3). In momentum form Π(h) = exp(−φ ê3) Π(0).
+/// ~~~
+///
+/// One step (R, Π) → (R', Π'), with the body torque M(R) = b Γ × z0 of a top whose M3 ≡ 0:
+///
+/// ~~~{.unparsed}
+///   kick     Π⁺ = Π + ½h M(R)                      (only Π1, Π2 change)
+///   drift    R' = R exp(h Π⁺/I1) exp(φ ê3),  φ = h Π⁺3 (I1 − I3)/(I1 I3);   Π⁻ = exp(−φ ê3) Π⁺
+///   kick     Π' = Π⁻ + ½h M(R')
+/// ~~~
+///
+/// Carried in the frame that turns with the spin. Since Π3 is constant, the spin angle ψ of the symmetric
+/// free flow grows by the same φ every step; any rotation by φ rounded to doubles has the same small defect
+/// every step — (cos φ)² + (sin φ)² − 1 ≈ 4εφ², and an angle error, both fixed — and applied to R (a 3×3
+/// product) it makes ‖RᵀR − I‖ and m·k drift linearly (docs/findings.md). So the state is (q̃, Π̃, ψ) with
+/// ~~~{.unparsed}
+///   R = R(q̃) exp(ψ ê3),   Π = exp(−ψ ê3) Π̃:
+/// ~~~
+/// in these variables the drift is R(q̃) ← R(q̃) exp(hΠ̃/I1) with Π̃ unchanged and ψ ← ψ + φ (a scalar sum,
+/// kept in [−π, π) with 2π split in two doubles), and the kicks are Π̃ += ½h M(R(q̃)ᵀk) — the torque of an
+/// axisymmetric top commutes with turns about e3, M(R exp(α ê3)) = exp(−α ê3) M(R) (its potential does not see
+/// them: that is what M3 ≡ 0 means; the constructor checks it). No fixed rotation is applied to anything:
+/// the rotation exp(hΠ̃/I1) changes with the kicks, q̃ is a unit quaternion renormalised by one Newton step each
+/// step, and ψ enters only at the output, R = R(q̃) exp(ψ ê3). Checked by tests/problems/test_problem_library.cpp,
+/// LagrangeSplit.LongRunAtLargeSteps: ‖RᵀR − I‖ and m·k stay below 1e-12 over 4·10⁶ steps at h = 0.3, growing no
+/// faster than a random walk (growth exponent < 0.75). M is kept for the next step's first kick: one torque per
+/// step; Γ̃ = R(q̃)ᵀk is read off q̃ without forming a matrix. Explicit, no solve, no step-size restriction from the
+/// spin rate.
+///
+/// Order 2 (Strang splitting φ^[V]_{h/2} ∘ φ^[T]_h ∘ φ^[V]_{h/2}: Strang, SIAM J. Numer. Anal. 5 (1968) 506; Hairer,
+/// Lubich & Wanner, Geometric Numerical Integration, 2nd ed., §II.5, eq. (II.5.3), which they call the Strang
+/// splitting (Strang 1968) and show to be symmetric and of order 2 — checked against the book's text; the observed
+/// order is 2 ± 0.2 in tests/problems/test_problem_library.cpp). Symplectic and symmetric (composition of exact
+/// Hamiltonian flows, symmetric arrangement; HLW Example II.5.1 makes the same argument for Störmer–Verlet).
+/// Preserves exactly: R on SO(3) to round-off (products of rotations); m_ψ = Π3 = I3 Ω3 bit for bit in the stepped
+/// state (no operation touches Π3; m_ψ is a linear invariant, Ω3' ≡ 0, so RKMK4 and the LGVI keep it to round-off as
+/// well: tests/problems/test_problem_library.cpp); m·k to round-off (the kick adds a vector ⊥ Γ = Rᵀk, the drift
+/// preserves m = RΠ); energy bounded (no drift). Exact (to round-off) when b = 0: it is then the free symmetric
+/// body's flow, so it integrates the fast spin of a gyroscope exactly and only the gravity kicks carry the O(h²)
+/// error — the regime of the fast Lagrange top (Brüls, Cardona, Arnold 2012; shared/NUMERICS.md: "integrate the spin
+/// about the symmetry axis exactly"). Using the exact symmetric free flow inside splittings: Celledoni, Fassò,
+/// Säfström, Zanna, SIAM J. Sci. Comput. 30 (2008) 2084, §1 (no equation number there for this flow; the formulas
+/// above are derived in this header and verified by the tests).
+///
+/// Applies to problems that declare `static constexpr bool axisymmetric = true` (LagrangeTop): their
+/// inertia is diag(I1, I1, I3) — checked by the constructor, which throws std::invalid_argument
+/// otherwise — and their torque has M3 ≡ 0 (the step does not read M3).
 #pragma once
 
 #include "../core/state_io.hpp"
@@ -67,27 +74,32 @@
 
 namespace lgi {
 
+/// A problem that declares `static constexpr bool axisymmetric = true`: J = diag(I1, I1, I3) and a torque that
+/// commutes with turns about e3 (M3 ≡ 0), as LagrangeTop does.
 template <class P>
 concept AxisymmetricProblem = RigidBodyProblem<P> && requires {
   { P::axisymmetric } -> std::convertible_to<bool>;
   requires P::axisymmetric;
 };
 
+/// The splitting of an axisymmetric top around the exact symmetric free flow (this header) as a Stepper on problem
+/// P: explicit, symmetric, symplectic, order 2, m_ψ kept exactly. Only an AxisymmetricProblem can construct one.
 template <RigidBodyProblem P>
 class LagrangeSplit {
  public:
-  using Problem = P;
-  using Scalar = typename P::Scalar;
-  // In the frame turning with the spin (see the header): R = R(q) exp(ψ ê3), Π = JΩ = exp(−ψ ê3) Pi, and M
-  // the torque in that frame at q (the next step's first kick).
+  using Problem = P;                  ///< the problem type
+  using Scalar = typename P::Scalar;  ///< its scalar
+  /// In the frame turning with the spin (see the header): R = R(q) exp(ψ ê3), Π = JΩ = exp(−ψ ê3) Pi, and M
+  /// the torque in that frame at q (the next step's first kick).
   struct Internal {
-    Quaternion<Scalar> q;
-    Vec3<Scalar> Pi;
-    Vec3<Scalar> M;
-    Scalar psi;
+    Quaternion<Scalar> q;  ///< the attitude of the turning frame, R(q)
+    Vec3<Scalar> Pi;       ///< the body momentum in that frame
+    Vec3<Scalar> M;        ///< the torque in that frame at q
+    Scalar psi;            ///< the spin angle ψ, in [−π, π)
     LGI_NUMBERS(q, Pi, M, psi)
   };
 
+  /// The method's traits.
   static constexpr MethodTraits traits{
       .name = "lagrange_split",
       .title = "Strang splitting: gravity kicks around the exact symmetric free flow (axisymmetric tops)",
@@ -101,6 +113,8 @@ class LagrangeSplit {
                    "Comput. 30 (2008) 2084, Sect. 1",
   };
 
+  /// Copies the problem; explicit: the options are not read. std::invalid_argument unless the inertia is
+  /// diag(I1, I1, I3) with I1, I3 > 0 and the torque commutes with turns about e3 (checked at one attitude).
   explicit LagrangeSplit(const P& problem, const StepperOptions& = {})
     requires AxisymmetricProblem<P>
       : problem_(problem) {
@@ -122,12 +136,14 @@ class LagrangeSplit {
       throw std::invalid_argument("lgi::LagrangeSplit: the torque must commute with turns about the symmetry axis e3");
   }
 
+  /// x at time t in the turning frame and its torque: one evaluation.
   Internal to_internal(const State<Scalar>& x, const Scalar& t) const
     requires AxisymmetricProblem<P>
   {
     const Quaternion<Scalar> q = quat::from_matrix(x.R);
     return {q, Vec3<Scalar>(I1_ * x.Omega.x(), I1_ * x.Omega.y(), I3_ * x.Omega.z()), torque(t, q), Scalar(0)};
   }
+  /// (R(q) exp(ψ ê3), J⁻¹ exp(−ψ ê3) Π) of y.
   State<Scalar> to_state(const Internal& y) const
     requires AxisymmetricProblem<P>
   {
@@ -144,6 +160,8 @@ class LagrangeSplit {
     return {R, Vec3<Scalar>(Pi.x() * inv_I1_, Pi.y() * inv_I1_, Pi.z() / I3_)};
   }
 
+  /// One step from t to t + h: kick, exact symmetric drift, kick (header). ok or non_finite, y untouched unless ok;
+  /// one torque evaluation, no matrix formed for a reduced-attitude torque, no allocation.
   LGI_FLATTEN StepStatus step(Internal& y, const Scalar& t, const Scalar& h)
     requires AxisymmetricProblem<P>
   {
@@ -177,25 +195,26 @@ class LagrangeSplit {
     return StepStatus::ok;
   }
 
+  /// The problem, as copied at construction.
   const P& problem() const { return problem_; }
 
  private:
   static constexpr double pi_ = 3.141592653589793;
-  // ψ reduced to [−π, π): ψ − 2π (or + 2π) with 2π = two_pi_hi + two_pi_lo; the first difference is exact.
+  /// ψ reduced to [−π, π): ψ − 2π (or + 2π) with 2π = two_pi_hi + two_pi_lo; the first difference is exact.
   static Scalar wrap(const Scalar& psi) {
     constexpr double two_pi_hi = 6.283185307179586, two_pi_lo = 2.4492935982947064e-16;
     if (value_of(psi) >= pi_) return (psi - Scalar(two_pi_hi)) - Scalar(two_pi_lo);
     return (psi + Scalar(two_pi_hi)) + Scalar(two_pi_lo);
   }
-  // exp(α ê3) v
+  /// exp(α ê3) v
   static Vec3<Scalar> turn(const Vec3<Scalar>& v, const Scalar& alpha) {
     using std::cos;
     using std::sin;
     const Scalar c = cos(alpha), s = sin(alpha);
     return {c * v.x() - s * v.y(), s * v.x() + c * v.y(), v.z()};
   }
-  // cos x − 1 and sin x / x from x² (Taylor polynomials below x² = 0.01, exact there to < 3e-19; no square
-  // root on that path).
+  /// cos x − 1 and sin x / x from x² (Taylor polynomials below x² = 0.01, exact there to < 3e-19; no square
+  /// root on that path).
   static void half_angle(const Scalar& x2, Scalar& cm1, Scalar& sinc) {
     using std::cos;
     using std::sin;
@@ -212,8 +231,8 @@ class LagrangeSplit {
       cm1 = -(s * s) / (Scalar(1) + cos(x));
     }
   }
-  // The torque in the turning frame at q: M(R(q)) = exp(ψ ê3) M(R(q) exp(ψ ê3)) for an axisymmetric top (the
-  // header); through Γ̃ = R(q)ᵀk for a reduced-attitude problem (no matrix), else at R(q).
+  /// The torque in the turning frame at q: M(R(q)) = exp(ψ ê3) M(R(q) exp(ψ ê3)) for an axisymmetric top (the
+  /// header); through Γ̃ = R(q)ᵀk for a reduced-attitude problem (no matrix), else at R(q).
   Vec3<Scalar> torque(const Scalar& t, const Quaternion<Scalar>& q) const {
     if constexpr (ReducedAttitudeProblem<P>) {
       // R(q)ᵀk = k − 2w (v × k) + 2 v × (v × k) for a unit q

@@ -1,37 +1,42 @@
-// lgi/integrators/lgvi.hpp — the Lie group variational integrator of Lee, Leok & McClamroch.
-//
-// Update (Lee, Leok, McClamroch, Proc. IEEE CCA 2005, 962–967; Comput. Methods Appl. Mech. Engrg. 196
-// (2007) 2907, §3), with Π = JΩ, the body-frame torque M_k = M(t_k, R_k) and J_d = ½ tr(J) I − J:
-//
-//   h hat(Π_k + ½ h M_k) = F_k J_d − J_d F_kᵀ           solve for F_k ∈ SO(3)
-//   R_{k+1} = R_k F_k
-//   Π_{k+1} = F_kᵀ (Π_k + ½ h M_k) + ½ h M_{k+1}
-//
-// Implicit stage. Writing F through the unit quaternion (1, c)/√(1 + c·c), i.e. the Cayley map of 2c,
-// F = I + 2/(1 + c·c) (hat(c) + hat(c)²), the identity F J_d − J_d Fᵀ = hat(2/(1 + c·c) (Jc + c × Jc))
-// (valid for any symmetric J) turns the matrix equation into three scalar ones,
-//
-//   G(c) = J c + c × (J c) − ½ (1 + c·c) μ = 0,           μ = h (Π_k + ½ h M_k),
-//
-// which in principal axes is Hairer's fixed point c_i = α w_i + ((I_j − I_k)/I_i) c_j c_k (HLW, GNI 2nd
-// ed., §VII.5.3, eq. (5.27)). From c₀ = ½J⁻¹μ two sweeps of that fixed point, c ← J⁻¹(½αμ − c × Jc),
-// give the predictor (error O(|c|⁵)); then Newton, dG = J + hat(c) J − hat(Jc) − μ cᵀ (written out for a
-// diagonal J), until the update is below `tolerance`·|c| or, by the quadratic convergence bound
-// |e⁺| ≤ K|Δ|², K = ‖J⁻¹‖(‖J‖ + |μ|), the next one would be — one update at ordinary step sizes — within
-// `max_iterations` updates;
-// otherwise the step reports StepStatus::not_converged and leaves the state untouched. Updates below
-// 16 cond(J) ε |c| count as converged: round-off allows no better. With a Jet scalar one more Newton
-// update follows convergence (not counted against the limit), so the derivative part is exact as well
-// (implicit function theorem). R_{k+1} is a product of rotations: orthogonal to round-off, never re-orthonormalised.
-// The method steps (R, Π) and keeps M_{k+1} for the next step's first kick: one torque per step, and
-// no J⁻¹ round trip (core/state.hpp).
-//
-// Order 2. Symplectic, symmetric (time-reversible), preserves the spatial momentum the torque leaves
-// alone (m for the free body, m·k for the heavy top) to round-off for any F, and the Casimirs; energy
-// error bounded (no drift) over exponentially long times. For the free body it is the discrete
-// Moser–Veselov algorithm (RATTLE; HLW Remark VII.5.2): a steady rotation about a principal axis with
-// rate ω advances by asin(hω) per step, not hω — DMV's error is a time reparametrisation (McLachlan &
-// Zanna, FoCM 5 (2005) 87).
+/// \file
+/// lgi/integrators/lgvi.hpp — the Lie group variational integrator of Lee, Leok & McClamroch.
+///
+/// Update (Lee, Leok, McClamroch, Proc. IEEE CCA 2005, 962–967; Comput. Methods Appl. Mech. Engrg. 196
+/// (2007) 2907, §3), with Π = JΩ, the body-frame torque M_k = M(t_k, R_k) and J_d = ½ tr(J) I − J:
+///
+/// ~~~{.unparsed}
+///   h hat(Π_k + ½ h M_k) = F_k J_d − J_d F_kᵀ           solve for F_k ∈ SO(3)
+///   R_{k+1} = R_k F_k
+///   Π_{k+1} = F_kᵀ (Π_k + ½ h M_k) + ½ h M_{k+1}
+/// ~~~
+///
+/// Implicit stage. Writing F through the unit quaternion (1, c)/√(1 + c·c), i.e. the Cayley map of 2c,
+/// F = I + 2/(1 + c·c) (hat(c) + hat(c)²), the identity F J_d − J_d Fᵀ = hat(2/(1 + c·c) (Jc + c × Jc))
+/// (valid for any symmetric J) turns the matrix equation into three scalar ones,
+///
+/// ~~~{.unparsed}
+///   G(c) = J c + c × (J c) − ½ (1 + c·c) μ = 0,           μ = h (Π_k + ½ h M_k),
+/// ~~~
+///
+/// which in principal axes is Hairer's fixed point c_i = α w_i + ((I_j − I_k)/I_i) c_j c_k (HLW, GNI 2nd
+/// ed., §VII.5.3, eq. (5.27)). From c₀ = ½J⁻¹μ two sweeps of that fixed point, c ← J⁻¹(½αμ − c × Jc),
+/// give the predictor (error O(|c|⁵)); then Newton, dG = J + hat(c) J − hat(Jc) − μ cᵀ (written out for a
+/// diagonal J), until the update is below `tolerance`·|c| or, by the quadratic convergence bound
+/// |e⁺| ≤ K|Δ|², K = ‖J⁻¹‖(‖J‖ + |μ|), the next one would be — one update at ordinary step sizes — within
+/// `max_iterations` updates;
+/// otherwise the step reports StepStatus::not_converged and leaves the state untouched. Updates below
+/// 16 cond(J) ε |c| count as converged: round-off allows no better. With a Jet scalar one more Newton
+/// update follows convergence (not counted against the limit), so the derivative part is exact as well
+/// (implicit function theorem). R_{k+1} is a product of rotations: orthogonal to round-off, never re-orthonormalised.
+/// The method steps (R, Π) and keeps M_{k+1} for the next step's first kick: one torque per step, and
+/// no J⁻¹ round trip (core/state.hpp).
+///
+/// Order 2. Symplectic, symmetric (time-reversible), preserves the spatial momentum the torque leaves
+/// alone (m for the free body, m·k for the heavy top) to round-off for any F, and the Casimirs; energy
+/// error bounded (no drift) over exponentially long times. For the free body it is the discrete
+/// Moser–Veselov algorithm (RATTLE; HLW Remark VII.5.2): a steady rotation about a principal axis with
+/// rate ω advances by asin(hω) per step, not hω — DMV's error is a time reparametrisation (McLachlan &
+/// Zanna, FoCM 5 (2005) 87).
 #pragma once
 
 #include "../core/state_io.hpp"
@@ -47,18 +52,22 @@
 
 namespace lgi {
 
+/// The LGVI (this header) as a Stepper on problem P: implicit, order 2, symplectic, symmetric; it steps (R, Π) and
+/// keeps the torque for the next step's first kick.
 template <RigidBodyProblem P>
 class Lgvi {
  public:
-  using Problem = P;
-  using Scalar = typename P::Scalar;
-  // (R, Π) and the torque M(t, R) at the current attitude, the first kick of the next step.
+  using Problem = P;                    ///< the problem type
+  using Scalar = typename P::Scalar;    ///< its scalar
+  /// (R, Π) and the torque M(t, R) at the current attitude, the first kick of the next step.
   struct Internal {
-    Mat3<Scalar> R;
-    Vec3<Scalar> Pi;
-    Vec3<Scalar> M;
+    Mat3<Scalar> R;   ///< attitude, body → laboratory
+    Vec3<Scalar> Pi;  ///< body angular momentum Π = JΩ
+    Vec3<Scalar> M;   ///< body-frame torque at (t, R), zero for a torque-free problem
     LGI_NUMBERS(R, Pi, M)
   };
+
+  /// The method's traits (`lgi list`, the README's method table).
 
   static constexpr MethodTraits traits{
       .name = "lgvi",
@@ -73,6 +82,8 @@ class Lgvi {
       .options = {"tolerance", "max_iterations"},
   };
 
+  /// Copies the problem; options: the Newton tolerance and max_iterations (std::invalid_argument from
+  /// StepperOptions::check when they are out of range).
   explicit Lgvi(const P& problem, const StepperOptions& options = {})
       : problem_(problem), J_(problem.inertia), options_(options) {
     options.check();
@@ -92,11 +103,16 @@ class Lgvi {
     inv_I_ = J_.J_inv.diagonal();
   }
 
+  /// (R, JΩ, M(t, R)) of x at time t: one torque evaluation.
   Internal to_internal(const State<Scalar>& x, const Scalar& t) const {
     return {x.R, J_.apply(x.Omega), torque(t, x.R)};
   }
+  /// (R, J⁻¹Π) of y.
   State<Scalar> to_state(const Internal& y) const { return {y.R, J_.solve(y.Pi)}; }
 
+  /// One step from t to t + h (h of either sign). not_converged when Newton does not converge within
+  /// max_iterations, non_finite when an update or the new state is not finite; y is untouched unless ok. Cost: one
+  /// torque, two fixed-point sweeps and the Newton updates (each a 3×3 solve by Cramer's rule); no allocation.
   LGI_FLATTEN StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
     using T = Scalar;
     const T half_h = T(0.5) * h;
@@ -115,8 +131,9 @@ class Lgvi {
     return StepStatus::ok;
   }
 
-  // Newton updates taken over the stepper's lifetime (a diagnostic: iterations per step).
+  /// Newton updates taken over the stepper's lifetime (a diagnostic: iterations per step).
   std::int64_t newton_iterations() const { return iterations_; }
+  /// The problem, as copied at construction.
   const P& problem() const { return problem_; }
 
  private:
@@ -127,7 +144,7 @@ class Lgvi {
       return Vec3<Scalar>::Zero();
   }
 
-  // One sweep of the fixed point c ← J⁻¹(½αμ − c × Jc), α = 1 + c·c.
+  /// One sweep of the fixed point c ← J⁻¹(½αμ − c × Jc), α = 1 + c·c.
   Vec3<Scalar> sweep(const Vec3<Scalar>& c, const Vec3<Scalar>& half_mu) const {
     using T = Scalar;
     if (J_.diagonal) {  // Hairer's c_i = α w_i + r_i c_j c_k, w = J⁻¹ ½μ, r_i = −d_i/I_i
@@ -138,9 +155,9 @@ class Lgvi {
     return J_.solve(Vec3<T>((T(1) + c.squaredNorm()) * half_mu - c.cross(J_.apply(c))));
   }
 
-  // The Newton update Δ = dG⁻¹ G for G(c) = Jc + c × Jc − ½(1 + c·c) μ, dG = J + hat(c) J − hat(Jc) − μ cᵀ,
-  // solved by Cramer's rule. For diagonal J = diag(I), G_i = I_i c_i + d_i c_j c_k − ½αμ_i and dG is
-  // diag(I) plus off-diagonal entries d_i c_k ({i, j, k} = {0, 1, 2}), minus μ cᵀ, written out in scalars.
+  /// The Newton update Δ = dG⁻¹ G for G(c) = Jc + c × Jc − ½(1 + c·c) μ, dG = J + hat(c) J − hat(Jc) − μ cᵀ,
+  /// solved by Cramer's rule. For diagonal J = diag(I), G_i = I_i c_i + d_i c_j c_k − ½αμ_i and dG is
+  /// diag(I) plus off-diagonal entries d_i c_k ({i, j, k} = {0, 1, 2}), minus μ cᵀ, written out in scalars.
   Vec3<Scalar> newton_update(const Vec3<Scalar>& c, const Vec3<Scalar>& half_mu) const {
     using T = Scalar;
     const T a = T(1) + c.squaredNorm();
@@ -165,7 +182,7 @@ class Lgvi {
     return (G(0) * c12 + G(1) * c20 + G(2) * c01) / r0.dot(c12);
   }
 
-  // Solves G(c) = 0 (see the header): two sweeps of the fixed point, then Newton.
+  /// Solves G(c) = 0 (see the header): two sweeps of the fixed point, then Newton.
   StepStatus solve_cayley(const Vec3<Scalar>& mu, Vec3<Scalar>& c) {
     using T = Scalar;
     const Vec3<T> half_mu = T(0.5) * mu;
@@ -199,8 +216,8 @@ class Lgvi {
   Inertia<Scalar> J_;
   StepperOptions options_;
   double J_norm_ = 0, J_inv_norm_ = 0;
-  Vec3<Scalar> d_;      // (I3 − I2, I1 − I3, I2 − I1) from J's diagonal
-  Vec3<Scalar> inv_I_;  // diagonal of J⁻¹ (used when J is diagonal)
+  Vec3<Scalar> d_;      ///< (I3 − I2, I1 − I3, I2 − I1) from J's diagonal
+  Vec3<Scalar> inv_I_;  ///< diagonal of J⁻¹ (used when J is diagonal)
   std::int64_t iterations_ = 0;
 };
 

@@ -1,45 +1,50 @@
-// lgi/integrators/projection.hpp — invariant projection for non-symplectic methods: after every step,
-// restore the energy and a momentum invariant by moving Ω alone (R untouched).
-//
-// The standard projection method (Hairer, Lubich, Wanner, Geometric Numerical Integration, 2nd ed. (2006),
-// §IV.4, Algorithm 4.2 "Standard Projection Method", with the projection step in the form (IV.4.5) — both
-// checked against the book's text; Hairer, BIT 41 (2001) 996, §2): after a step ỹ_{n+1} of the underlying
-// method, take
-//
-//   y_{n+1} = ỹ_{n+1} + G(ỹ_{n+1})ᵀ λ   with λ such that g(y_{n+1}) = g(y_0),
-//
-// G = g' the gradient of the invariants, λ from Newton's method (HLW use simplified Newton iterations from
-// λ = 0 and note that the first increment is of the size of the local error). Here y = Ω with R held fixed
-// (R is already on SO(3) to round-off for the RKMK methods; its invariants — the Casimir |Rᵀk| = 1 — need no
-// help), and
-//
-//   g₁(Ω) = ½ Ω·JΩ + V(R)                      energy; ∇g₁ = JΩ                   (every problem)
-//   g₂(Ω) = a·(R JΩ) = (JΓ)·Ω,  Γ = Rᵀa        momentum about the axis a of a ReducedAttitudeProblem
-//                                              (heavy top: m·k, the seed paper's m_φ); ∇g₂ = JΓ
-//   g₂(Ω) = ½ |JΩ|²                             free body (no torque): the Casimir |JΩ|; ∇g₂ = J²Ω
-//
-// Newton solves the 2×2 system in λ (g₁ is quadratic, g₂ linear or quadratic along Ω̃ + Gᵀλ; its
-// Jacobian g'(Ω)Gᵀ is exact), starting from λ = 0; the first update is O(local error) and the iteration
-// stops once both residuals are at the round-off of evaluating them, 8 ε Σ|terms| (usually after one update;
-// at most 6; with Jets one update more so that the derivative part converges too). Where the two gradients are parallel to within 1e-5 rad (a
-// steady spin about a principal axis, a sleeping top) the 2×2 system is singular and only the energy is
-// restored. The targets g(y₀) travel in the internal state (no hidden state in the stepper).
-//
-// What it does not do: the free body's spatial momentum m = RJΩ (three components) cannot be restored with
-// R fixed — with R given, m fixes Ω completely, and E and |JΩ| would then follow from the step's error —
-// so the free body keeps |m| = |JΩ| and E, not the direction of m. Time-dependent torques conserve no
-// energy: Projected does not accept them. Symplectic methods need no projection (their energy error is
-// bounded) and are not accepted either.
-//
-// Cost: one Γ = Rᵀa (or none), one V(R), the gradients, and ≈ 40 flops per Newton update (usually one
-// update and two residuals) — ≈ 150 flops; instructions per step with and without it: docs/performance.md.
-// Effect (tests/integrators/test_projection.cpp): energy and m·k (free body: E and |JΩ|) within 1e-13 over 10⁶
-// steps where the unprojected runs drift; the state error at T = 10 at most twice the unprojected one (the
-// measured figures: docs/validation.md).
-// Order: that of the underlying method (the projection moves the state by O(local error)). R on SO(3): as
-// the underlying method.
-// Adaptive: an AdaptiveStepper stays one; its error estimate is the unprojected step's, the accepted state
-// and every dense output are projected.
+/// \file
+/// lgi/integrators/projection.hpp — invariant projection for non-symplectic methods: after every step,
+/// restore the energy and a momentum invariant by moving Ω alone (R untouched).
+///
+/// The standard projection method (Hairer, Lubich, Wanner, Geometric Numerical Integration, 2nd ed. (2006),
+/// §IV.4, Algorithm 4.2 "Standard Projection Method", with the projection step in the form (IV.4.5) — both
+/// checked against the book's text; Hairer, BIT 41 (2001) 996, §2): after a step ỹ_{n+1} of the underlying
+/// method, take
+///
+/// ~~~{.unparsed}
+///   y_{n+1} = ỹ_{n+1} + G(ỹ_{n+1})ᵀ λ   with λ such that g(y_{n+1}) = g(y_0),
+/// ~~~
+///
+/// G = g' the gradient of the invariants, λ from Newton's method (HLW use simplified Newton iterations from
+/// λ = 0 and note that the first increment is of the size of the local error). Here y = Ω with R held fixed
+/// (R is already on SO(3) to round-off for the RKMK methods; its invariants — the Casimir |Rᵀk| = 1 — need no
+/// help), and
+///
+/// ~~~{.unparsed}
+///   g₁(Ω) = ½ Ω·JΩ + V(R)                      energy; ∇g₁ = JΩ                   (every problem)
+///   g₂(Ω) = a·(R JΩ) = (JΓ)·Ω,  Γ = Rᵀa        momentum about the axis a of a ReducedAttitudeProblem
+///                                              (heavy top: m·k, the seed paper's m_φ); ∇g₂ = JΓ
+///   g₂(Ω) = ½ |JΩ|²                             free body (no torque): the Casimir |JΩ|; ∇g₂ = J²Ω
+/// ~~~
+///
+/// Newton solves the 2×2 system in λ (g₁ is quadratic, g₂ linear or quadratic along Ω̃ + Gᵀλ; its
+/// Jacobian g'(Ω)Gᵀ is exact), starting from λ = 0; the first update is O(local error) and the iteration
+/// stops once both residuals are at the round-off of evaluating them, 8 ε Σ|terms| (usually after one update;
+/// at most 6; with Jets one update more so that the derivative part converges too). Where the two gradients are
+/// parallel to within 1e-5 rad (a steady spin about a principal axis, a sleeping top) the 2×2 system is singular
+/// and only the energy is restored. The targets g(y₀) travel in the internal state (no hidden state in the stepper).
+///
+/// What it does not do: the free body's spatial momentum m = RJΩ (three components) cannot be restored with
+/// R fixed — with R given, m fixes Ω completely, and E and |JΩ| would then follow from the step's error —
+/// so the free body keeps |m| = |JΩ| and E, not the direction of m. Time-dependent torques conserve no
+/// energy: Projected does not accept them. Symplectic methods need no projection (their energy error is
+/// bounded) and are not accepted either.
+///
+/// Cost: one Γ = Rᵀa (or none), one V(R), the gradients, and ≈ 40 flops per Newton update (usually one
+/// update and two residuals) — ≈ 150 flops; instructions per step with and without it: docs/performance.md.
+/// Effect (tests/integrators/test_projection.cpp): energy and m·k (free body: E and |JΩ|) within 1e-13 over 10⁶
+/// steps where the unprojected runs drift; the state error at T = 10 at most twice the unprojected one (the
+/// measured figures: docs/validation.md).
+/// Order: that of the underlying method (the projection moves the state by O(local error)). R on SO(3): as
+/// the underlying method.
+/// Adaptive: an AdaptiveStepper stays one; its error estimate is the unprojected step's, the accepted state
+/// and every dense output are projected.
 #pragma once
 
 #include "../core/state_io.hpp"
@@ -56,45 +61,47 @@
 
 namespace lgi {
 
-// Problems whose energy is conserved: no time-dependent torque.
+/// Problems whose energy is conserved: no time-dependent torque.
 template <class P>
 concept ProjectableProblem =
     RigidBodyProblem<P> &&
     !requires(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) { p.torque(t, R); };
 
-// Steppers whose result Projected can correct: not symplectic, with Ω in their internal coordinates, or
-// with a set_omega(y, Ω) that replaces the internal velocity (or momentum) and leaves the attitude alone
-// (the splittings, whose internal state is a quaternion and the principal-axis momentum).
+/// Steppers whose result Projected can correct: not symplectic, with Ω in their internal coordinates, or
+/// with a set_omega(y, Ω) that replaces the internal velocity (or momentum) and leaves the attitude alone
+/// (the splittings, whose internal state is a quaternion and the principal-axis momentum).
 template <class S>
 concept ProjectableStepper =
     Stepper<S> && ProjectableProblem<typename S::Problem> && (!S::traits.symplectic) &&
     (requires(typename S::Internal& y) { { y.Omega } -> std::convertible_to<Vec3<typename S::Scalar>>; } ||
      requires(const S& s, typename S::Internal& y, const Vec3<typename S::Scalar>& w) { s.set_omega(y, w); });
 
-// The invariant values a projected run restores.
+/// The invariant values a projected run restores.
 template <class T>
 struct ProjectionTargets {
-  T energy;
-  T second;  // a·(RJΩ) or ½|JΩ|²
+  T energy;  ///< g₁: the energy E
+  T second;  ///< a·(RJΩ) or ½|JΩ|²
 };
 
-// The projection itself, usable on its own: restores g(R, Ω) = targets by Ω ← Ω + Gᵀλ.
+/// The projection itself, usable on its own: restores g(R, Ω) = targets by Ω ← Ω + Gᵀλ.
 template <ProjectableProblem P>
 class InvariantProjection {
  public:
-  using T = typename P::Scalar;
-  static constexpr bool reduced = P::has_torque && ReducedAttitudeProblem<P>;
-  static constexpr bool free = !P::has_torque;
-  static constexpr bool two_constraints = reduced || free;
+  using T = typename P::Scalar;  ///< the problem's scalar
+  static constexpr bool reduced = P::has_torque && ReducedAttitudeProblem<P>;  ///< g₂ = a·(RJΩ) (header)
+  static constexpr bool free = !P::has_torque;                                ///< g₂ = ½|JΩ|² (header)
+  static constexpr bool two_constraints = reduced || free;                    ///< else the energy alone
 
+  /// Copies the problem (and J with its inverse).
   explicit InvariantProjection(const P& problem) : problem_(problem), J_(problem.inertia) {}
 
+  /// g(x): the energy and, where the problem has one, the second invariant of the header.
   ProjectionTargets<T> targets(const State<T>& x) const {
     const Vec3<T> Pi = J_.apply(x.Omega);
     return {T(0.5) * x.Omega.dot(Pi) + problem_.potential(x.R), second(x.R, Pi)};
   }
 
-  // Ω restored for attitude R; false (Omega untouched) when the result is not finite.
+  /// Ω restored for attitude R; false (Omega untouched) when the result is not finite.
   bool project(const Mat3<T>& R, Vec3<T>& Omega, const ProjectionTargets<T>& target) const {
     using std::abs;
     const T kinetic_target = target.energy - problem_.potential(R);  // ½ Ω·JΩ must equal this
@@ -166,6 +173,7 @@ class InvariantProjection {
     return true;
   }
 
+  /// The problem, as copied at construction.
   const P& problem() const { return problem_; }
 
  private:
@@ -194,41 +202,48 @@ struct DenseOf<S> {
 };
 }  // namespace detail
 
-// Any non-symplectic stepper S with the projection after every step (and after every dense output).
-//
-// Switched off (the constructor's `enabled`; the engine behind `lgi` switches it by the scene's "projection"), it
-// is S itself: the same steps, bits and counters, the targets left zero and not counted by numbers_in_use — so
-// one compiled loop serves a method with and without projection.
+/// Any non-symplectic stepper S with the projection after every step (and after every dense output).
+///
+/// Switched off (the constructor's `enabled`; the engine behind `lgi` switches it by the scene's "projection"), it
+/// is S itself: the same steps, bits and counters, the targets left zero and not counted by numbers_in_use — so
+/// one compiled loop serves a method with and without projection.
 template <ProjectableStepper S>
 class Projected {
  public:
-  using Problem = typename S::Problem;
-  using Scalar = typename S::Scalar;
+  using Problem = typename S::Problem;  ///< S's problem type
+  using Scalar = typename S::Scalar;    ///< its scalar
+  /// S's state and the invariant values to restore (set by to_internal from the run's initial state).
   struct Internal {
-    typename S::Internal y;
-    ProjectionTargets<Scalar> target;
+    typename S::Internal y;            ///< the inner method's state
+    ProjectionTargets<Scalar> target;  ///< g at the start of the run (zero when switched off)
     LGI_NUMBERS(y, target.energy, target.second)
   };
-  // The inner method's traits: the projection changes what is conserved, not what the method is.
+  /// The inner method's traits: the projection changes what is conserved, not what the method is.
   static constexpr MethodTraits traits = S::traits;
 
+  /// S built from (problem, options) (S's exceptions propagate); `enabled` false: S itself (above).
   explicit Projected(const Problem& problem, const StepperOptions& options = {}, bool enabled = true)
       : inner_(problem, options), projection_(problem), enabled_(enabled) {}
 
+  /// Whether the projection runs.
   bool enabled() const { return enabled_; }
-  // The numbers of an Internal this stepper uses, leading in LGI_NUMBERS order: S's alone when switched off.
+  /// The numbers of an Internal this stepper uses, leading in LGI_NUMBERS order: S's alone when switched off.
   std::size_t numbers_in_use() const {
     return enabled_ ? number_count<Internal>() : number_count<typename S::Internal>();
   }
 
+  /// S's coordinates of x, and the targets g(x) when enabled.
   Internal to_internal(const State<Scalar>& x, const Scalar& t) const {
     if (!enabled_) return {inner_.to_internal(x, t), {Scalar(0), Scalar(0)}};
     return {inner_.to_internal(x, t), projection_.targets(x)};
   }
+  /// S's state of y.
   State<Scalar> to_state(const Internal& y) const { return inner_.to_state(y.y); }
 
-  // Not LGI_FLATTEN: the inner step is flattened already; flattening it again here compiled every method's
-  // step twice in each runner part, for one call saved beside a projection's Newton solve.
+  /// S's step, then the projection: S's status, or non_finite when the projected state is not finite; y untouched
+  /// unless ok. Cost: about 150 flops beyond S's step (header).
+  /// Not LGI_FLATTEN: the inner step is flattened already; flattening it again here compiled every method's
+  /// step twice in each runner part, for one call saved beside a projection's Newton solve.
   StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
     if (!enabled_) return inner_.step(y.y, t, h);
     typename S::Internal z = y.y;
@@ -240,14 +255,18 @@ class Projected {
   }
 
   // ---- adaptive, when S is ----
+  /// S's control order (0 when S has no embedded pair).
   static constexpr int control_order = [] {
     if constexpr (requires { S::control_order; }) return S::control_order; else return 0;
   }();
+  /// S's dense-output data and the targets.
   struct Dense {
-    typename detail::DenseOf<S>::type inner;
-    ProjectionTargets<Scalar> target;
+    typename detail::DenseOf<S>::type inner;  ///< S's Dense (an empty struct when S has none)
+    ProjectionTargets<Scalar> target;         ///< the targets the dense outputs are projected to
   };
 
+  /// S's trial step with its error estimate (that of the unprojected step), then the projection of y1 (non_finite
+  /// and an infinite error when the projection fails). Only when S is an AdaptiveStepper.
   StepStatus attempt(const Internal& y, const Scalar& t, const Scalar& h, Internal& y1, double& error, Dense& d) const
     requires(control_order > 0)
   {
@@ -261,6 +280,7 @@ class Projected {
     }
     return StepStatus::ok;
   }
+  /// S's dense output at θ ∈ [0, 1], projected to the run's targets.
   Internal dense_output(Dense& d, const Scalar& theta) const
     requires(control_order > 0)
   {
@@ -269,19 +289,24 @@ class Projected {
     project(z.y, d.target);
     return z;
   }
+  /// S's rtol.
   double rtol() const
     requires(control_order > 0)
   {
     return inner_.rtol();
   }
+  /// S's atol.
   double atol() const
     requires(control_order > 0)
   {
     return inner_.atol();
   }
 
+  /// The inner stepper.
   const S& inner() const { return inner_; }
+  /// The projection.
   const InvariantProjection<Problem>& projection() const { return projection_; }
+  /// S's Newton iterations, where S counts them (the projection's own are not counted).
   std::int64_t newton_iterations() const
     requires requires(const S& s) { s.newton_iterations(); }
   {

@@ -1,105 +1,114 @@
-// lgi/integrators/rkmk.hpp — Runge–Kutta–Munthe-Kaas methods for any explicit Butcher tableau, with
-// adaptive steps and dense output on the group for embedded pairs.
-//
-// With body angular velocity the flow is R(t) = R_n exp(u(t)), and u obeys the ODE in the Lie algebra
-// (right trivialisation; Hairer–Lubich–Wanner, GNI 2nd ed., eq. (IV.8.9) and Algorithm IV.8.3, with the
-// sign of ad flipped for right products):
-//
-//   u' = J_r⁻¹(u) Ω = Ω + ½ u × Ω + (1/12) u × (u × Ω) + …,     Ω' = J⁻¹((JΩ) × Ω + M(t, R_n exp(u))),
-//
-// u(0) = 0. One step applies the tableau (a, b, c) to this pair:
-//
-//   stage i:  u_i = h Σ_j a_ij U_j,   W_i = Ω_n + h Σ_j a_ij V_j,
-//             U_i = J_r⁻¹(u_i) W_i (series truncated after ad^(p−2)),   V_i = Ω'(t_n + c_i h, R_n exp(u_i), W_i)
-//   update:   R_{n+1} = R_n exp(h Σ b_i U_i),   Ω_{n+1} = Ω_n + h Σ b_i V_i.
-//
-// The truncation after the ad^(p−2) term keeps the order p of the tableau (HLW Theorem IV.8.5: classical order
-// p and truncation index q ≥ p − 2 in (IV.8.9) give order p — checked against the book's text, whose proof is
-// the argument below; HLW credit Algorithm IV.8.3 to Munthe-Kaas (1999), Appl. Numer. Math. 29 (1999) 115,
-// whose own theorem numbers were not checked): along the exact flow u = tΩ + O(t²), so ad_u^k Ω = O(t^(k+1))
-// and the dropped terms change a step by O(h^(p+1)). It makes the stage map a polynomial. Since B_k = 0 for
-// odd k ≥ 3, K = p − 2 is lowered to the last non-zero term (DP5: K = 2; Verner 9(8): K = 7 (lowered to 6), the
-// same terms as DOP853's K = 6). One non-zero term short, the order falls to the dropped power + 1
-// (tests/integrators/test_rkmk_family.cpp, RkmkSeriesTruncation, each within 0.2: RKMK3 with K = 0 order 2; RKMK4
-// and DP5 with K = 1 order 3; DOP853 and Verner 9(8) with K = 4 order 7), and Verner 9(8) keeps its order 9 with
-// K = 6 (the ad⁸ term, B₈ ≠ 0, is not needed).
-// Zero tableau entries are skipped at compile time, and so are trailing stages with b_i = 0 in fixed steps
-// (Dormand–Prince's 7th stage); for a torque-free problem no stage attitude is formed at all, and for a
-// torque that depends on R only through Γ = Rᵀa (ReducedAttitudeProblem: the heavy top) the stages
-// rotate Γ_i = exp(u_i)ᵀ Γ_n instead of forming R_n exp(u_i).
-//
-// Embedded pairs (EmbeddedTableau: Dormand–Prince 5(4), DOP853, Verner 9(8)) also give, for adaptive steps
-// (integrators/adaptive.hpp):
-//   error:   the two solutions R_n exp(u), R_n exp(û) differ by log(exp(û)ᵀ exp(u)) = δu + O(|u| |δu|) with
-//            δu = u − û = h Σ e_i U_i (e = b − b̂), and in Ω by δΩ = h Σ e_i V_i. The six components are
-//            scaled by sc = atol + rtol·1 for the attitude (a unit-size quantity: δu is the angle by which
-//            the body axes, unit vectors, move) and sc_k = atol + rtol·max(|Ω_n,k|, |Ω_{n+1},k|) for Ω
-//            (HNW I, §II.4, the scaling of Hairer's codes), and combined in the RMS norm
-//            err = √(Σ (δ_k/sc_k)²/6) — for DOP853 err = ‖δ₅‖²/√(‖δ₅‖² + 0.01‖δ₃‖²) as in dop853.f.
-//   dense:   the continuous extension applied in the Lie algebra, u(θh) = h Σ b_i(θ) U_i, Ω(t_n + θh) =
-//            Ω_n + h Σ b_i(θ) V_i, R(t_n + θh) = R_n exp(u(θh)): it is the RK dense output of the ODE above,
-//            so it has the tableau's dense order (4 for DP5, 7 for DOP853, 9 for Verner 9(8)) and R stays on
-//            SO(3). The extra stages — DOP853's four (at the new point, and c = 0.1, 0.2, 7/9), Verner's ten
-//            (the first at the new point) — are computed only when a step is asked for output. Munthe-Kaas,
-//            BIT 38 (1998) 92 (the continuous RKMK idea); Engø, BIT 40 (2000) 41 ("Numerical analysis of Lie
-//            group methods", variable steps and interpolation).
-//
-// Cayley coordinates (LieChart::cayley; methods rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley,
-// rkmk_vern9_cayley). RKMK works with any coordinate map ψ: so(3) → SO(3) with ψ(0) = I, ψ'(0) = id (Iserles,
-// Munthe-Kaas, Nørsett, Zanna, Acta Numerica 9 (2000) 215, the section "Alternative coordinates"; Munthe-Kaas,
-// Appl. Numer. Math. 29 (1999) 115): the step applies the tableau to u' = dψ_u⁻¹(Ω). With the Cayley map cay(u) = (I − ½û)⁻¹(I + ½û)
-// (core/so3.hpp) the inverse differential is exact and polynomial,
-//
-//   u' = dcay_u⁻¹ Ω = Ω + ½ u × Ω + ¼ (u·Ω) u        (HLW §IV.8.3, right-trivialised),
-//
-// so nothing is truncated and the order is the tableau's for any tableau; the stage attitudes are rational
-// in u — Γ_i = cay(u_i)ᵀ Γ_n = Γ_n − A u_i × Γ_n + ½A ((u_i·Γ_n) u_i − |u_i|² Γ_n), A = 4/(4 + |u_i|²) — and so
-// is the update R_{n+1} = R_n cay(h Σ b_i U_i): no sin, cos or square root anywhere in the step, where the
-// exponential chart calls libm's sin at every stage with a torque once θ² = |u_i|² ≥ 1e-2. The price is in
-// the error constants: at equal fixed steps DOP853 in Cayley coordinates is less accurate than in the
-// exponential chart, by much more on the free body than on the heavy top (docs/findings.md), so the adaptive
-// Cayley pair takes more steps for an error; it is cheaper per step (instructions per step of both charts:
-// docs/performance.md, "Cost per step"). Dense output and error estimates are those above with cay in place of
-// exp.
-//
-// Verner's most efficient 9(8) pair (rkmk_vern9, rkmk_vern9_cayley; tableaus::verner9): 16 stages a step against
-// DOP853's 12, for a solution of order 9 and an estimate of order 8 whose error constants are small; in Cayley
-// coordinates it needs fewer steps than DOP853 in either chart for the same error (docs/performance.md,
-// work-precision), at about DOP853's cost per stage (docs/performance.md, "Cost per step"). Orders (each within
-// 0.2; tests/integrators/test_rkmk_family.cpp, test_adaptive.cpp): 9 in the exponential chart on the skew top and
-// the free body; in Cayley coordinates its errors fall faster than h⁹ everywhere above the double round-off floor
-// (large h¹⁰ terms), and with order 9 below it (tests/integrators/test_quad_order.cpp, coefficients
-// tableaus::verner9_in<C> parsed to the run's precision: binary128 on the skew top, 50 digits on the GNI free
-// body; DOP853 in Cayley coordinates order 8 on the GNI body in binary128); the observed figures are in
-// docs/validation.md. Round-off: its interpolant's weights are degree-9 polynomials with coefficients up to
-// 1.07e4, whose Horner sums carry ≈ 1e-12 absolute round-off, far more than a step's end (docs/findings.md) —
-// output times read between steps are that far off, whatever the tolerance (and 5.3e-14 h in long double, from
-// the coefficients' own rounding to double).
-//
-// Scalars and coefficients: any scalar of core/scalar.hpp (double, long double, ceres::Jet, a real class type
-// such as boost::multiprecision::float128), and a tableau with any coefficient type the scalar can be made from
-// (Scalar(Tableau.a[i][j]); zero tests at compile time): the double tableaus, or tableaus::verner9_in<C> and
-// dop853_in<C> for runs beyond double precision.
-//
-// Non-diagonal J: principal axes. With a non-diagonal J every stage's Ω' = J⁻¹((JΩ) × Ω + M) costs two 3×3
-// products. The equations are equivariant under a constant change of body frame: with J = Q diag(I) Qᵀ
-// (det Q = 1; PrincipalAxes, core/inertia.hpp) the state R_p = R Q, Ω_p = QᵀΩ obeys the same equations with
-// J = diag(I), the laboratory axis a unchanged (Γ_p = R_pᵀa = QᵀΓ) and the lever v of a torque Γ × v turned
-// to Qᵀv. So a run of a double (or long double) RKMK method on a problem without torque or with a reduced
-// torque that has a lever (the heavy top and its relatives; the lever is checked against the torque at
-// construction) carries its state in principal axes: to_internal and to_state turn it at the edges of a run
-// (and at output times), the steps are those of a diagonal J, and R_p stays on SO(3) like R. Exact
-// equivariance: the same RKMK step in either frame in exact arithmetic (exp, cay and the dexp⁻¹ series commute
-// with rotations), so the method, its order and its error constants are unchanged; the error norm of adaptive
-// steps scales Ω's components in the body frame (its δΩ, Ω_n, Ω_{n+1} turned back: 3 products a trial step), so
-// the step sequence is the body frame's too. Jets and other torques keep the body frame (a Jet's Q would carry
-// first-order derivatives of J only; real class types such as float128 keep it too).
-// Principal-axis runs equal the body frame's to round-off (tests/integrators/test_rkmk_family.cpp,
-// RkmkPrincipalAxes); their cost per step is in docs/performance.md.
-//
-// Order: that of the tableau. R stays on SO(3) to round-off (products of exponentials or Cayley
-// rotations). Not symplectic, not symmetric; energy and momentum drift like those of the underlying
-// Runge–Kutta method (the projection of integrators/projection.hpp restores them).
+/// \file
+/// lgi/integrators/rkmk.hpp — Runge–Kutta–Munthe-Kaas methods for any explicit Butcher tableau, with
+/// adaptive steps and dense output on the group for embedded pairs.
+///
+/// With body angular velocity the flow is R(t) = R_n exp(u(t)), and u obeys the ODE in the Lie algebra
+/// (right trivialisation; Hairer–Lubich–Wanner, GNI 2nd ed., eq. (IV.8.9) and Algorithm IV.8.3, with the
+/// sign of ad flipped for right products):
+///
+/// ~~~{.unparsed}
+///   u' = J_r⁻¹(u) Ω = Ω + ½ u × Ω + (1/12) u × (u × Ω) + …,     Ω' = J⁻¹((JΩ) × Ω + M(t, R_n exp(u))),
+/// ~~~
+///
+/// u(0) = 0. One step applies the tableau (a, b, c) to this pair:
+///
+/// ~~~{.unparsed}
+///   stage i:  u_i = h Σ_j a_ij U_j,   W_i = Ω_n + h Σ_j a_ij V_j,
+///             U_i = J_r⁻¹(u_i) W_i (series truncated after ad^(p−2)),   V_i = Ω'(t_n + c_i h, R_n exp(u_i), W_i)
+///   update:   R_{n+1} = R_n exp(h Σ b_i U_i),   Ω_{n+1} = Ω_n + h Σ b_i V_i.
+/// ~~~
+///
+/// The truncation after the ad^(p−2) term keeps the order p of the tableau (HLW Theorem IV.8.5: classical order
+/// p and truncation index q ≥ p − 2 in (IV.8.9) give order p — checked against the book's text, whose proof is
+/// the argument below; HLW credit Algorithm IV.8.3 to Munthe-Kaas (1999), Appl. Numer. Math. 29 (1999) 115,
+/// whose own theorem numbers were not checked): along the exact flow u = tΩ + O(t²), so ad_u^k Ω = O(t^(k+1))
+/// and the dropped terms change a step by O(h^(p+1)). It makes the stage map a polynomial. Since B_k = 0 for
+/// odd k ≥ 3, K = p − 2 is lowered to the last non-zero term (DP5: K = 2; Verner 9(8): K = 7 (lowered to 6), the
+/// same terms as DOP853's K = 6). One non-zero term short, the order falls to the dropped power + 1
+/// (tests/integrators/test_rkmk_family.cpp, RkmkSeriesTruncation, each within 0.2: RKMK3 with K = 0 order 2; RKMK4
+/// and DP5 with K = 1 order 3; DOP853 and Verner 9(8) with K = 4 order 7), and Verner 9(8) keeps its order 9 with
+/// K = 6 (the ad⁸ term, B₈ ≠ 0, is not needed).
+/// Zero tableau entries are skipped at compile time, and so are trailing stages with b_i = 0 in fixed steps
+/// (Dormand–Prince's 7th stage); for a torque-free problem no stage attitude is formed at all, and for a
+/// torque that depends on R only through Γ = Rᵀa (ReducedAttitudeProblem: the heavy top) the stages
+/// rotate Γ_i = exp(u_i)ᵀ Γ_n instead of forming R_n exp(u_i).
+///
+/// Embedded pairs (EmbeddedTableau: Dormand–Prince 5(4), DOP853, Verner 9(8)) also give, for adaptive steps
+/// (integrators/adaptive.hpp):
+/// ~~~{.unparsed}
+///   error:   the two solutions R_n exp(u), R_n exp(û) differ by log(exp(û)ᵀ exp(u)) = δu + O(|u| |δu|) with
+///            δu = u − û = h Σ e_i U_i (e = b − b̂), and in Ω by δΩ = h Σ e_i V_i. The six components are
+///            scaled by sc = atol + rtol·1 for the attitude (a unit-size quantity: δu is the angle by which
+///            the body axes, unit vectors, move) and sc_k = atol + rtol·max(|Ω_n,k|, |Ω_{n+1},k|) for Ω
+///            (HNW I, §II.4, the scaling of Hairer's codes), and combined in the RMS norm
+///            err = √(Σ (δ_k/sc_k)²/6) — for DOP853 err = ‖δ₅‖²/√(‖δ₅‖² + 0.01‖δ₃‖²) as in dop853.f.
+///   dense:   the continuous extension applied in the Lie algebra, u(θh) = h Σ b_i(θ) U_i, Ω(t_n + θh) =
+///            Ω_n + h Σ b_i(θ) V_i, R(t_n + θh) = R_n exp(u(θh)): it is the RK dense output of the ODE above,
+///            so it has the tableau's dense order (4 for DP5, 7 for DOP853, 9 for Verner 9(8)) and R stays on
+///            SO(3). The extra stages — DOP853's four (at the new point, and c = 0.1, 0.2, 7/9), Verner's ten
+///            (the first at the new point) — are computed only when a step is asked for output. Munthe-Kaas,
+///            BIT 38 (1998) 92 (the continuous RKMK idea); Engø, BIT 40 (2000) 41 ("Numerical analysis of Lie
+///            group methods", variable steps and interpolation).
+/// ~~~
+///
+/// Cayley coordinates (LieChart::cayley; methods rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley,
+/// rkmk_vern9_cayley). RKMK works with any coordinate map ψ: so(3) → SO(3) with ψ(0) = I, ψ'(0) = id (Iserles,
+/// Munthe-Kaas, Nørsett, Zanna, Acta Numerica 9 (2000) 215, the section "Alternative coordinates"; Munthe-Kaas,
+/// Appl. Numer. Math. 29 (1999) 115): the step applies the tableau to u' = dψ_u⁻¹(Ω). With the Cayley map
+/// cay(u) = (I − ½û)⁻¹(I + ½û) (core/so3.hpp) the inverse differential is exact and polynomial,
+///
+/// ~~~{.unparsed}
+///   u' = dcay_u⁻¹ Ω = Ω + ½ u × Ω + ¼ (u·Ω) u        (HLW §IV.8.3, right-trivialised),
+/// ~~~
+///
+/// so nothing is truncated and the order is the tableau's for any tableau; the stage attitudes are rational
+/// in u — Γ_i = cay(u_i)ᵀ Γ_n = Γ_n − A u_i × Γ_n + ½A ((u_i·Γ_n) u_i − |u_i|² Γ_n), A = 4/(4 + |u_i|²) — and so
+/// is the update R_{n+1} = R_n cay(h Σ b_i U_i): no sin, cos or square root anywhere in the step, where the
+/// exponential chart calls libm's sin at every stage with a torque once θ² = |u_i|² ≥ 1e-2. The price is in
+/// the error constants: at equal fixed steps DOP853 in Cayley coordinates is less accurate than in the
+/// exponential chart, by much more on the free body than on the heavy top (docs/findings.md), so the adaptive
+/// Cayley pair takes more steps for an error; it is cheaper per step (instructions per step of both charts:
+/// docs/performance.md, "Cost per step"). Dense output and error estimates are those above with cay in place of
+/// exp.
+///
+/// Verner's most efficient 9(8) pair (rkmk_vern9, rkmk_vern9_cayley; tableaus::verner9): 16 stages a step against
+/// DOP853's 12, for a solution of order 9 and an estimate of order 8 whose error constants are small; in Cayley
+/// coordinates it needs fewer steps than DOP853 in either chart for the same error (docs/performance.md,
+/// work-precision), at about DOP853's cost per stage (docs/performance.md, "Cost per step"). Orders (each within
+/// 0.2; tests/integrators/test_rkmk_family.cpp, test_adaptive.cpp): 9 in the exponential chart on the skew top and
+/// the free body; in Cayley coordinates its errors fall faster than h⁹ everywhere above the double round-off floor
+/// (large h¹⁰ terms), and with order 9 below it (tests/integrators/test_quad_order.cpp, coefficients
+/// `tableaus::verner9_in<C>` parsed to the run's precision: binary128 on the skew top, 50 digits on the GNI free
+/// body; DOP853 in Cayley coordinates order 8 on the GNI body in binary128); the observed figures are in
+/// docs/validation.md. Round-off: its interpolant's weights are degree-9 polynomials with coefficients up to
+/// 1.07e4, whose Horner sums carry ≈ 1e-12 absolute round-off, far more than a step's end (docs/findings.md) —
+/// output times read between steps are that far off, whatever the tolerance (and 5.3e-14 h in long double, from
+/// the coefficients' own rounding to double).
+///
+/// Scalars and coefficients: any scalar of core/scalar.hpp (double, long double, ceres::Jet, a real class type
+/// such as boost::multiprecision::float128), and a tableau with any coefficient type the scalar can be made from
+/// (Scalar(Tableau.a[i][j]); zero tests at compile time): the double tableaus, or `tableaus::verner9_in<C>` and
+/// `dop853_in<C>` for runs beyond double precision.
+///
+/// Non-diagonal J: principal axes. With a non-diagonal J every stage's Ω' = J⁻¹((JΩ) × Ω + M) costs two 3×3
+/// products. The equations are equivariant under a constant change of body frame: with J = Q diag(I) Qᵀ
+/// (det Q = 1; PrincipalAxes, core/inertia.hpp) the state R_p = R Q, Ω_p = QᵀΩ obeys the same equations with
+/// J = diag(I), the laboratory axis a unchanged (Γ_p = R_pᵀa = QᵀΓ) and the lever v of a torque Γ × v turned
+/// to Qᵀv. So a run of a double (or long double) RKMK method on a problem without torque or with a reduced
+/// torque that has a lever (the heavy top and its relatives; the lever is checked against the torque at
+/// construction) carries its state in principal axes: to_internal and to_state turn it at the edges of a run
+/// (and at output times), the steps are those of a diagonal J, and R_p stays on SO(3) like R. Exact
+/// equivariance: the same RKMK step in either frame in exact arithmetic (exp, cay and the dexp⁻¹ series commute
+/// with rotations), so the method, its order and its error constants are unchanged; the error norm of adaptive
+/// steps scales Ω's components in the body frame (its δΩ, Ω_n, Ω_{n+1} turned back: 3 products a trial step), so
+/// the step sequence is the body frame's too. Jets and other torques keep the body frame (a Jet's Q would carry
+/// first-order derivatives of J only; real class types such as float128 keep it too).
+/// Principal-axis runs equal the body frame's to round-off (tests/integrators/test_rkmk_family.cpp,
+/// RkmkPrincipalAxes); their cost per step is in docs/performance.md.
+///
+/// Order: that of the tableau. R stays on SO(3) to round-off (products of exponentials or Cayley
+/// rotations). Not symplectic, not symmetric; energy and momentum drift like those of the underlying
+/// Runge–Kutta method (the projection of integrators/projection.hpp restores them).
 #pragma once
 
 #include "../core/inertia.hpp"
@@ -120,28 +129,30 @@
 
 namespace lgi {
 
-// The coordinates of the RKMK step: R = R_n exp(u) (the exponential chart, canonical coordinates of the first
-// kind) or R = R_n cay(u) (the Cayley map).
+/// The coordinates of the RKMK step: R = R_n exp(u) (the exponential chart, canonical coordinates of the first
+/// kind) or R = R_n cay(u) (the Cayley map).
 enum class LieChart : std::uint8_t { exp, cayley };
 
-// SeriesDegree: the last ad-power kept in the J_r⁻¹ series (−1: the default, the least that keeps the
-// tableau's order; other values only to measure that the truncation matters, tests/integrators/test_rkmk_family.cpp).
-// Unused by the Cayley chart, whose dcay⁻¹ is exact.
+/// The RKMK method of Butcher tableau Tableau (butcher_tableaus.hpp) as a Stepper on problem P (this header):
+/// explicit, the tableau's order, R on SO(3) to round-off; an AdaptiveStepper when the tableau is an embedded pair.
+/// SeriesDegree: the last ad-power kept in the J_r⁻¹ series (−1: the default, the least that keeps the
+/// tableau's order; other values only to measure that the truncation matters, tests/integrators/test_rkmk_family.cpp).
+/// Unused by the Cayley chart, whose dcay⁻¹ is exact.
 template <const auto& Tableau, RigidBodyProblem P, int SeriesDegree = -1, LieChart Chart = LieChart::exp>
 class Rkmk {
  public:
-  using Problem = P;
-  using Scalar = typename P::Scalar;
-  using Internal = State<Scalar>;
-  using Vec6 = Eigen::Matrix<Scalar, 6, 1>;
+  using Problem = P;                         ///< the problem type
+  using Scalar = typename P::Scalar;         ///< its scalar
+  using Internal = State<Scalar>;            ///< (R, Ω), in principal axes for a non-diagonal J (header)
+  using Vec6 = Eigen::Matrix<Scalar, 6, 1>;  ///< a stage derivative (U, V) as one 6-vector
 
-  // An embedded pair: error estimate, dense output, adaptive steps.
+  /// An embedded pair: error estimate, dense output, adaptive steps.
   static constexpr bool embedded = tableaus::is_embedded_v<std::remove_cvref_t<decltype(Tableau)>>;
-  static constexpr LieChart chart = Chart;
+  static constexpr LieChart chart = Chart;  ///< the coordinate map of the step
 
  private:
-  // K = p − 2, lowered to the last non-zero term: the Bernoulli numbers B_k vanish for odd k ≥ 3, so K = 3 is
-  // K = 2 (DP5) and K = 7 would be K = 6 — without the lowering the loop would form an unused cross product.
+  /// K = p − 2, lowered to the last non-zero term: the Bernoulli numbers B_k vanish for odd k ≥ 3, so K = 3 is
+  /// K = 2 (DP5) and K = 7 would be K = 6 — without the lowering the loop would form an unused cross product.
   static constexpr int series_degree = [] {
     if constexpr (SeriesDegree >= 0) {
       return SeriesDegree;
@@ -151,17 +162,17 @@ class Rkmk {
     }
   }();
   static constexpr bool reduced = P::has_torque && ReducedAttitudeProblem<P>;
-  // A reduced torque Γ × v with a constant lever v (core/problem.hpp).
+  /// A reduced torque Γ × v with a constant lever v (core/problem.hpp).
   static constexpr bool has_lever = LeverTorqueProblem<P>;
-  // Runs with a non-diagonal J in principal axes (header): floating-point scalars, no torque or one with a lever.
+  /// Runs with a non-diagonal J in principal axes (header): floating-point scalars, no torque or one with a lever.
   static constexpr bool principal_capable = std::is_floating_point_v<Scalar> && (!P::has_torque || has_lever);
   static constexpr bool lever_in_principal_axes = principal_capable && has_lever;
   static constexpr int dense_stages = tableaus::dense_stages(Tableau);
   static constexpr bool has_second_estimate = tableaus::has_second_estimate(Tableau);
-  static constexpr int update_stages = tableaus::update_stages(Tableau);  // the stages a fixed step needs
+  static constexpr int update_stages = tableaus::update_stages(Tableau);  ///< the stages a fixed step needs
   using Weights = tableaus::Weights;
 
-  // Scene name and title: the tableau's, with "_cayley" and " in Cayley coordinates" for the Cayley chart.
+  /// Scene name and title: the tableau's, with "_cayley" and " in Cayley coordinates" for the Cayley chart.
   template <std::size_t N>
   struct Text {
     std::array<char, N> chars{};
@@ -188,6 +199,7 @@ class Rkmk {
 
  public:
 
+  /// The method's traits, from the tableau (name, title, order, reference) and the chart.
   static constexpr MethodTraits traits{
       .name = cayley ? cayley_name.view() : Tableau.name,
       .title = cayley ? cayley_title.view() : Tableau.title,
@@ -202,6 +214,9 @@ class Rkmk {
                           : std::array<std::string_view, 6>{"projection"},
   };
 
+  /// Copies the problem; options: rtol and atol (embedded pairs) and projection (read by Projected).
+  /// std::invalid_argument from StepperOptions::check, and when a lever torque's reduced_torque_lever() does not
+  /// match reduced_torque().
   explicit Rkmk(const P& problem, const StepperOptions& options = {})
       : problem_(problem), J_(problem.inertia), rtol_(options.rtol), atol_(options.atol) {
     options.check();
@@ -217,19 +232,24 @@ class Rkmk {
     }
   }
 
-  // The internal state: (R, Ω) itself, or (R Q, QᵀΩ) in principal axes (a non-diagonal J, see the header).
+  /// The internal state: (R, Ω) itself, or (R Q, QᵀΩ) in principal axes (a non-diagonal J, see the header).
   bool internal_is_body_frame() const { return axes_.identity; }
+  /// x itself, or (R Q, QᵀΩ) in principal axes.
   Internal to_internal(const State<Scalar>& x, const Scalar&) const {
     if (axes_.identity) return x;
     return {Mat3<Scalar>(x.R * axes_.Q), axes_.to_principal(x.Omega)};
   }
+  /// y itself, or (R Qᵀ, QΩ) back from principal axes.
   State<Scalar> to_state(const Internal& y) const {
     if (axes_.identity) return y;
     return {Mat3<Scalar>(y.R * axes_.Q.transpose()), axes_.to_body(y.Omega)};
   }
-  // Replaces the internal velocity by the body-frame Ω, the attitude untouched (projection.hpp).
+  /// Replaces the internal velocity by the body-frame Ω, the attitude untouched (projection.hpp).
   void set_omega(Internal& y, const Vec3<Scalar>& Omega) const { y.Omega = axes_.to_principal(Omega); }
 
+  /// One fixed step from t to t + h (the header's update, the tableau's stages up to its last non-zero b_i): ok or
+  /// non_finite, x untouched unless ok. Cost: one torque per stage (none without torque), one exponential or
+  /// Cayley map per stage with a torque and one for the update; no allocation.
   LGI_FLATTEN StepStatus step(Internal& x, const Scalar& t, const Scalar& h) {
     if constexpr (lever_in_principal_axes)
       if (!axes_.identity) return step_principal(x, t, h);
@@ -238,23 +258,26 @@ class Rkmk {
 
   // ---- embedded pairs: adaptive steps and dense output (integrators/adaptive.hpp) ----
 
-  // The exponent k of the step-size rule h ∝ err^(−1/k).
+  /// The exponent k of the step-size rule h ∝ err^(−1/k).
   static constexpr int control_order = [] {
     if constexpr (embedded) return Tableau.control_order; else return 0;
   }();
 
-  // What a step leaves for its dense output: its start, its size and its stage derivatives.
+  /// What a step leaves for its dense output: its start, its size and its stage derivatives.
   struct Dense {
-    State<Scalar> x;
+    State<Scalar> x;     ///< the step's start (internal frame)
+    ///@{
+    /// The step's time and size.
     Scalar t, h;
-    Vec3<Scalar> Gamma;
-    std::array<Vec6, dense_stages> K;  // (U_i, V_i)
-    bool extended = false;  // the dense-only stages are computed
+    ///@}
+    Vec3<Scalar> Gamma;  ///< Γ = Rᵀa at the start (reduced-attitude torques)
+    std::array<Vec6, dense_stages> K;  ///< (U_i, V_i)
+    bool extended = false;  ///< the dense-only stages are computed
   };
 
-  // One trial step of size h from (x, t): the new state in x1 (x untouched) and the scaled error norm in
-  // `error` (≤ 1: acceptable). The stages stay in `d` for dense_output. Status non_finite when the trial
-  // state is not finite (then `error` is +inf).
+  /// One trial step of size h from (x, t): the new state in x1 (x untouched) and the scaled error norm in
+  /// `error` (≤ 1: acceptable). The stages stay in `d` for dense_output. Status non_finite when the trial
+  /// state is not finite (then `error` is +inf).
   LGI_FLATTEN StepStatus attempt(const Internal& x, const Scalar& t, const Scalar& h, Internal& x1, double& error,
                                  Dense& d) const
     requires embedded
@@ -264,8 +287,8 @@ class Rkmk {
     return attempt_in<false>(x, t, h, x1, error, d);
   }
 
-  // The state at t + θh of the step that filled d (θ ∈ [0, 1]): R_n exp(u(θh)), Ω(θh) from the continuous
-  // extension in the Lie algebra. Computes the dense-only stages on the first call for a step.
+  /// The state at t + θh of the step that filled d (θ ∈ [0, 1]): R_n exp(u(θh)), Ω(θh) from the continuous
+  /// extension in the Lie algebra. Computes the dense-only stages on the first call for a step.
   LGI_FLATTEN Internal dense_output(Dense& d, const Scalar& theta) const
     requires embedded
   {
@@ -274,14 +297,17 @@ class Rkmk {
     return dense_in<false>(d, theta);
   }
 
+  /// The relative error tolerance of adaptive steps (StepperOptions::rtol; 0: fixed steps).
   double rtol() const { return rtol_; }
+  /// The absolute error tolerance of adaptive steps (StepperOptions::atol).
   double atol() const { return atol_; }
+  /// The problem, as copied at construction.
   const P& problem() const { return problem_; }
 
  private:
-  // The step, trial step and dense output, with the torque Γ × Qᵀv in principal axes (Pr) or the problem's.
-  // Two copies rather than a test at every stage: the test slows the body-frame step (docs/performance.md,
-  // "Design measurements behind the code").
+  /// The step, trial step and dense output, with the torque Γ × Qᵀv in principal axes (Pr) or the problem's.
+  /// Two copies rather than a test at every stage: the test slows the body-frame step (docs/performance.md,
+  /// "Design measurements behind the code").
   [[gnu::noinline]] LGI_FLATTEN StepStatus step_principal(Internal& x, const Scalar& t, const Scalar& h) {
     return step_in<true>(x, t, h);
   }
@@ -387,7 +413,7 @@ class Rkmk {
     return y;
   }
 
-  // ψ(w) − I of the chart ψ = exp or cay.
+  /// ψ(w) − I of the chart ψ = exp or cay.
   static Mat3<Scalar> increment(const Vec3<Scalar>& w) {
     if constexpr (cayley)
       return so3::cayley_increment(w);
@@ -400,14 +426,14 @@ class Rkmk {
     return tableaus::weighted_sum<Tableau, W, N>(K);
   }
 
-  // The torque at Γ in the internal frame: the problem's, or Γ × Qᵀv in principal axes (Pr). (Not Γ × v in the
-  // body frame too: the problem's own b (Γ × z0) rounds differently, and the batch kernels repeat its bits.)
+  /// The torque at Γ in the internal frame: the problem's, or Γ × Qᵀv in principal axes (Pr). (Not Γ × v in the
+  /// body frame too: the problem's own b (Γ × z0) rounds differently, and the batch kernels repeat its bits.)
   template <bool Pr>
   Vec3<Scalar> reduced_torque(const Vec3<Scalar>& Gamma) const {
     if constexpr (Pr) return Gamma.cross(lever_); else return problem_.reduced_torque(Gamma);
   }
 
-  // Ω' = J⁻¹((JΩ) × Ω + M)
+  /// Ω' = J⁻¹((JΩ) × Ω + M)
   Vec3<Scalar> acceleration(const Vec3<Scalar>& Omega, const Vec3<Scalar>& M) const {
     return J_.solve(Vec3<Scalar>(J_.apply(Omega).cross(Omega) + M));
   }
@@ -415,9 +441,9 @@ class Rkmk {
     return J_.solve(Vec3<Scalar>(J_.apply(Omega).cross(Omega)));
   }
 
-  // Stage I: K_I = (U_I, V_I). The six components share the tableau's coefficients and are combined as one
-  // 6-vector (three SSE2 packets instead of two 3-vectors' two packets and two scalars each; the same
-  // operations element by element, so the same bits).
+  /// Stage I: K_I = (U_I, V_I). The six components share the tableau's coefficients and are combined as one
+  /// 6-vector (three SSE2 packets instead of two 3-vectors' two packets and two scalars each; the same
+  /// operations element by element, so the same bits).
   template <int I, bool Pr, std::size_t N>
   void stage(const State<Scalar>& x, const Vec3<Scalar>& Gamma, const Scalar& t, const Scalar& h,
              std::array<Vec6, N>& K) const {
@@ -469,34 +495,46 @@ class Rkmk {
   }
 
   P problem_;
-  Inertia<Scalar> J_;  // diag(I) in principal axes
+  Inertia<Scalar> J_;  ///< diag(I) in principal axes
   double rtol_, atol_;
-  PrincipalAxes<Scalar> axes_;                 // identity: the internal frame is the body frame
-  Vec3<Scalar> lever_ = Vec3<Scalar>::Zero();  // Qᵀv in principal axes (has_lever)
+  PrincipalAxes<Scalar> axes_;                 ///< identity: the internal frame is the body frame
+  Vec3<Scalar> lever_ = Vec3<Scalar>::Zero();  ///< Qᵀv in principal axes (has_lever)
 };
 
+/// lie_euler: the Lie–Euler method (order 1).
 template <RigidBodyProblem P>
 using LieEuler = Rkmk<tableaus::euler, P>;
+/// rkmk_heun: RKMK with Heun's tableau (order 2).
 template <RigidBodyProblem P>
 using RkmkHeun = Rkmk<tableaus::heun, P>;
+/// rkmk3: RKMK with Kutta's third-order tableau.
 template <RigidBodyProblem P>
 using Rkmk3 = Rkmk<tableaus::kutta3, P>;
+/// rkmk4: RKMK with the classical fourth-order tableau.
 template <RigidBodyProblem P>
 using Rkmk4 = Rkmk<tableaus::classical_rk4, P>;
+/// rkmk4_38: RKMK with the 3/8 rule (order 4).
 template <RigidBodyProblem P>
 using Rkmk4Rule38 = Rkmk<tableaus::rule38, P>;
+/// rkmk_dp5: Dormand–Prince 5(4), adaptive with dense output (order 5).
 template <RigidBodyProblem P>
 using RkmkDp5 = Rkmk<tableaus::dormand_prince5, P>;
+/// rkmk_dp8: DOP853, 8(5,3), adaptive with dense output (order 8).
 template <RigidBodyProblem P>
 using RkmkDp8 = Rkmk<tableaus::dop853, P>;
+/// rkmk4_cayley: rkmk4 in Cayley coordinates.
 template <RigidBodyProblem P>
 using Rkmk4Cayley = Rkmk<tableaus::classical_rk4, P, -1, LieChart::cayley>;
+/// rkmk_dp5_cayley: rkmk_dp5 in Cayley coordinates.
 template <RigidBodyProblem P>
 using RkmkDp5Cayley = Rkmk<tableaus::dormand_prince5, P, -1, LieChart::cayley>;
+/// rkmk_dp8_cayley: rkmk_dp8 in Cayley coordinates.
 template <RigidBodyProblem P>
 using RkmkDp8Cayley = Rkmk<tableaus::dop853, P, -1, LieChart::cayley>;
+/// rkmk_vern9: Verner's 9(8) pair, adaptive with dense output (order 9).
 template <RigidBodyProblem P>
 using RkmkVern9 = Rkmk<tableaus::verner9, P>;
+/// rkmk_vern9_cayley: rkmk_vern9 in Cayley coordinates.
 template <RigidBodyProblem P>
 using RkmkVern9Cayley = Rkmk<tableaus::verner9, P, -1, LieChart::cayley>;
 

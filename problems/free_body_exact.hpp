@@ -1,112 +1,123 @@
-// lgi/problems/free_body_exact.hpp — the exact motion of the free rigid body (Euler–Poinsot), by Jacobi
-// elliptic functions and the elliptic integral of the third kind.
-//
-// Problem: J Ω' = (JΩ) × Ω, R' = R hat(Ω) (problems/free_body.hpp), J any symmetric positive-definite
-// tensor. J is diagonalised once, J = Q diag(I1, I2, I3) Qᵀ with I1 ≤ I2 ≤ I3 and Q a rotation (exactly a
-// signed permutation when J is diagonal); in principal axes the attitude is R_p = R Q and the body momentum
-// m = Qᵀ J Ω. Everything below is in principal axes. Integrals: G² = |m|², 2T = Σ m_i²/I_i, R m = μ.
-//
-// Euler's equations m' = m × Ω, Ω_i = m_i/I_i (Celledoni, Fassò, Säfström, Zanna [CFSZ], §2.2), with
-// Leroy's cancellation-free forms (Leroy [L], "The quantity Δ_j"):
-//   Δ1 = m2² I21/I2 + m3² I31/I3 ≥ 0,   Δ3 = −(m1² I31/I1 + m2² I32/I2) ≤ 0,   Δ2 = m3² I32/I3 − m1² I21/I1,
-//   (Δj = G² − 2T Ij, Ijh = Ij − Ih). The sign of Δ2 is the regime:
-//   Δ2 < 0  [CFSZ case (i)]: m circles the axis of the smallest moment I1 (m1 keeps its sign σ), a = 1, p = 3;
-//   Δ2 > 0  [CFSZ case (ii)]: m circles the axis of the largest moment I3 (m3 keeps its sign σ), a = 3, p = 1;
-//   Δ2 = 0  [CFSZ case (iii)]: the separatrix.
-//   Elliptic cases, u = λ t + u0:
-//     m_p = A_p cn(u, κ),   m2 = A2 sn(u, κ),   m_a = σ A_a dn(u, κ),
-//     A1² = −Δ3 I1/I31,  A3² = Δ1 I3/I31,  A2² = −Δ3 I2/I32 (a = 3) or Δ1 I2/I21 (a = 1),
-//     λ = σ A1 A3 I31/(A2 I1 I3)  (λ² = Δ1 I32/(I1I2I3) for a = 3, −Δ3 I21/(I1I2I3) for a = 1),
-//     κ² = −Δ3 I21/(Δ1 I32) (a = 3) or Δ1 I32/(−Δ3 I21) (a = 1), and the complementary parameter without
-//     cancellation, m_c = 1 − κ² = Δ2 I31/(Δ1 I32) or Δ2 I31/(Δ3 I21) [L, "The elliptic modulus"];
-//     u0 = F(am0, κ) with am0 = atan2(m2/A2, m_p/A_p) ∈ (−π, π] (the full quadrant: the one-argument
-//     arctan of [L], "Phase and initial value", fixes am0 only modulo π, i.e. the signs of sn and cn
-//     together, and is wrong when m_p < 0).
-//   Separatrix: m = (σ1 A1 sech u, G tanh u, σ3 A3 sech u), λ = σ1σ3 A1 A3 I31/(G I1 I3), u0 = asinh(m2/√(m1² + m3²))
-//     ([L], "Case (iii)": the published case (iii) forces m1, m3 to one sign; [L] adds the second sign).
-//   The sign of λ corrects [CFSZ]: it is that of m_a (here, with the sn component written +A2 sn; [L],
-//   "Case (i)"/"Case (ii)" give the same correction, λ = −σλ3 / −σλ1 with −B sn). Every sign above was
-//   checked by differentiating m(t) against Euler's equations and, end to end, by the tests.
-//
-// Attitude. With the polar axis e_a (the component that keeps its sign, so ρ² = G² − m_a² > 0 throughout),
-// the body frame B(m) = [b1 b2 b3], b3 = m/G, b1 = e_a × m/ρ, b2 = b3 × b1, depends on m alone, and
-//     R_p(t) = R_p(0) B(m(0)) E(φ(t)) B(m(t))ᵀ,      E(φ) = rotation by φ about e3,
-// keeps R_p m = μ by construction; R_p' = R_p hat(Ω) holds iff φ' = Ω·b3 − b2'·b1, which Euler's equations
-// turn into the classical precession rate (Landau & Lifshitz, Mechanics, §37, for a = 3)
-//     φ' = G (m_b²/I_b + m_c²/I_c)/ρ² = G/I_a − (G Δ_a/I_a)/ρ²,     ρ² = A_p² (1 − n sn²u),
-//     n = −I3 I21/(I1 I32) (a = 3) or −I1 I32/(I3 I21) (a = 1)  (n < 0: no pole),
-// so, with Π(n; ϕ, κ) = ∫₀^ϕ dθ / ((1 − n sin²θ) √(1 − κ² sin²θ)) (Boost's and A&S's sign of n; GSL's is
-// the opposite),
-//     φ(t) = (G/I_a) t + s (G I31/(I1 I3 λ)) [Π(n; am u, κ) − Π(n; am u0, κ)],   s = +1 (a = 3), −1 (a = 1).
-// This is the same Π(n) as [L]'s corrected "alternative quaternionic solution" (his n = I3 I21/(I1 I23) in
-// case (ii), I1 I32/(I3 I12) in case (i)): his quaternion maps m to e_a by the smallest rotation, which adds
-// an arctan(… sc u) term that jumps at every zero of cn; the frame B above differs from his by a rotation
-// about m and needs no arctan and no unwrapping. On the separatrix the integral is elementary:
-//     φ(t) = (2T/G) t − (Δ_a/(I_a λ G)) β [atan(β tanh u) − atan(β tanh u0)],   β = A_a/A_p,
-// with a = 1 if A1 ≤ A3, else 3 (then ρ² ≥ G²/2).
-// Special cases, exactly: m = 0 (rest); m along a principal axis (steady rotation, R_p(t) = R_p(0) exp(tΩ));
-// two equal moments (I_j = I_k = I⊥ ≠ I_s: R_p(t) = R_p(0) exp(t hat(m(0))/I⊥) exp(t c ê_s),
-// m(t) = exp(−t c ê_s) m(0), c = (1/I_s − 1/I⊥) m_s), and the sphere. Principal moments closer than
-// 8 ε(T) I3 are taken equal (their mean): J itself is only known to ε(T) in T.
-//
-// Numerics.
-// - Elliptic integrals by Carlson's forms (DLMF §19.25(i), F: 19.25.5; Boost.Math ellint_rf/ellint_rj), fed
-//   with cn², dn² = cn² + m_c sn² and m_c, never 1 − κ² sin²: K = RF(0, m_c, 1), Π(n | κ) = K + (n/3) RJ(0,
-//   m_c, 1, 1 − n), Π(n; ϕ, κ) = s RF(c², d², 1) + (n/3) s³ RJ(c², d², 1, 1 − n s²) for |ϕ| ≤ π/2 (s, c =
-//   sin, cos ϕ; d² = c² + m_c s²), extended by Π(ϕ + jπ) = Π(ϕ) + 2jΠ(n | κ); checked against Boost's
-//   ellint_3/ellint_1 in the tests.
-// - sn, cn, dn by the descending Landen transformation (DLMF §22.7(i), A&S 16.12) from κ and κ' = √m_c,
-//   rational on the way up (detail::jacobi). Not Boost's jacobi_elliptic, measured in the tests: it takes κ
-//   and rebuilds κ' by cancellation (sn, cn lose accuracy near the separatrix: docs/free_body_exact.md), its
-//   AGM takes asin of arguments → 1 where sn → ±1, and Boost 1.74 returns dn = 1 instead of κ' at u = K (0/0
-//   in its cos ϕ₀/cos(ϕ₁ − ϕ₀)).
-// - Near the separatrix Δ2 cancels: it is summed in twice W's precision (error-free transformations), from
-//   Ω when J is diagonal and the input is (R, Ω) (Ω_p is then exact), so m_c keeps W's relative accuracy
-//   however small it is: with J diagonal the solution stays at round-off of a 113-bit integration over
-//   t ≤ 100 down to Δ2/G² = 1e-14 (closer, double data cannot resolve). With J non-diagonal the
-//   eigensolver's rounding (in long double) perturbs Δ2 by ≈ 1e-19 G², so the error grows like
-//   1e-19/(Δ2/G²) per period, and the 1e-12 accuracy holds only down to |Δ2|/G² ≈ 1e-7 (tests:
-//   SeparatrixAgainst113BitIntegration, the δ = ±1e-12, −1e-14 and non-diagonal −1e-8 cases in every run;
-//   more with LGI_SLOW_TESTS=1; the figures: docs/free_body_exact.md).
-// - u is reduced to r ∈ [−K, K] (u = 2jK + r; sn, cn change sign with j, dn does not) for long times.
-// - Round-off in t (Vilmart, J. Comput. Phys. 227 (2008)): the phases λt and φ(t) are linear in t, so the
-//   relative error of the constants λ, K, Π(n | κ), G/I_a becomes an absolute error growing linearly in t.
-//   Every constant and phase is computed in the wide type W (default long double, ε = 1.1e-19) and only the
-//   result is rounded to T (the error against a 113-bit evaluation, for W = double and long double:
-//   docs/free_body_exact.md).
-// - Flows composed many times (flow(x, h), a splitting's sub-step) are formed as increments
-//   (Solution::increment): R + R (Q dM Qᵀ), Ω + Q (dm/I), with dM = M − I and dm = m(h) − m(0) O(h) and
-//   built without their O(1) parts — the addition theorems for sn, cn, dn (DLMF §22.8(i)) from the values at
-//   u0 read off m(0), and the frame increment B(m(h)) − B(m(0)) without cancellation. Rebuilt from scratch
-//   each call instead, m(h) and R(h) make the invariants drift linearly; as increments they random-walk
-//   (docs/free_body_exact.md). flow(x, 0) = x.
-//
-// Exact: order ∞ up to round-off. Preserves R_p m = μ by construction (to round-off, with no growth in t),
-// |m| and T to round-off (m(t) lies on the invariant curve for every t), R on SO(3) to round-off; the flow
-// is a group: flow(t2) ∘ flow(t1) = flow(t1 + t2) to round-off (≈ ε (1 + |Ω| t2), the rounding of the
-// intermediate state).
-//
-// Scalars: T = float, double or long double; W ≥ T a floating-point type (long double, double, or a
-// Boost.Multiprecision type, used by the tests as a 113-bit reference; the eigensolver then still runs in
-// long double). Not ceres::Jet: the special functions are Boost's, for arithmetic types only.
-// Cost: one solve = 1 RF + 1 RJ; one evaluation = one Landen descent + 1 RF + 1 RJ (+ 2 RF + 1 RJ for
-// K, Π(n | κ) at long times or when am u crosses ±π/2); W = long double is several times slower than
-// W = double (x87 transcendental functions; times per call: docs/free_body_exact.md, CostPerCall). Use
-// FreeBodyExact<double, double> for splittings (short h: the linear growth in t is irrelevant, and
-// invariants random-walk as above), the default W = long double as a reference solution.
-//
-// References.
-// [CFSZ] E. Celledoni, F. Fassò, N. Säfström, A. Zanna, "The exact computation of the free rigid body motion
-//   and its use in splitting methods", SIAM J. Sci. Comput. 30 (2008) 2084–2112: §2.2 (Euler's equations
-//   by Jacobi elliptic functions, cases (i)–(iii), section number as cited by [L] for the 2007 preprint);
-//   the attitude by Π. Equation numbers of the article could not be confirmed from a source available
-//   here; none are cited.
-// [L] P. Leroy, "On an Article by Celledoni et al.", Principia repository (mockingbirdnest/Principia),
-//   documentation/Celledoni.tex (unnumbered sections named above): corrected λ signs, case (iii), Δ_j and
-//   m_c without cancellation, the Π(n) of the attitude angle.
-// Landau & Lifshitz, Mechanics, 3rd ed., §37 (the precession rate of the free asymmetric top; equation
-//   number not confirmed). DLMF: NIST Digital Library of Mathematical Functions. A&S: Abramowitz & Stegun,
-//   Handbook of Mathematical Functions, 16.12–16.13 (Landen; small-parameter forms), 17.2 (Π's sign of n).
+/// \file
+/// lgi/problems/free_body_exact.hpp — the exact motion of the free rigid body (Euler–Poinsot), by Jacobi
+/// elliptic functions and the elliptic integral of the third kind.
+///
+/// Problem: J Ω' = (JΩ) × Ω, R' = R hat(Ω) (problems/free_body.hpp), J any symmetric positive-definite
+/// tensor. J is diagonalised once, J = Q diag(I1, I2, I3) Qᵀ with I1 ≤ I2 ≤ I3 and Q a rotation (exactly a
+/// signed permutation when J is diagonal); in principal axes the attitude is R_p = R Q and the body momentum
+/// m = Qᵀ J Ω. Everything below is in principal axes. Integrals: G² = |m|², 2T = Σ m_i²/I_i, R m = μ.
+///
+/// Euler's equations m' = m × Ω, Ω_i = m_i/I_i (Celledoni, Fassò, Säfström, Zanna [CFSZ], §2.2), with
+/// Leroy's cancellation-free forms (Leroy [L], "The quantity Δ_j"):
+/// ~~~{.unparsed}
+///   Δ1 = m2² I21/I2 + m3² I31/I3 ≥ 0,   Δ3 = −(m1² I31/I1 + m2² I32/I2) ≤ 0,   Δ2 = m3² I32/I3 − m1² I21/I1,
+///   (Δj = G² − 2T Ij, Ijh = Ij − Ih). The sign of Δ2 is the regime:
+///   Δ2 < 0  [CFSZ case (i)]: m circles the axis of the smallest moment I1 (m1 keeps its sign σ), a = 1, p = 3;
+///   Δ2 > 0  [CFSZ case (ii)]: m circles the axis of the largest moment I3 (m3 keeps its sign σ), a = 3, p = 1;
+///   Δ2 = 0  [CFSZ case (iii)]: the separatrix.
+///   Elliptic cases, u = λ t + u0:
+///     m_p = A_p cn(u, κ),   m2 = A2 sn(u, κ),   m_a = σ A_a dn(u, κ),
+///     A1² = −Δ3 I1/I31,  A3² = Δ1 I3/I31,  A2² = −Δ3 I2/I32 (a = 3) or Δ1 I2/I21 (a = 1),
+///     λ = σ A1 A3 I31/(A2 I1 I3)  (λ² = Δ1 I32/(I1I2I3) for a = 3, −Δ3 I21/(I1I2I3) for a = 1),
+///     κ² = −Δ3 I21/(Δ1 I32) (a = 3) or Δ1 I32/(−Δ3 I21) (a = 1), and the complementary parameter without
+///     cancellation, m_c = 1 − κ² = Δ2 I31/(Δ1 I32) or Δ2 I31/(Δ3 I21) [L, "The elliptic modulus"];
+///     u0 = F(am0, κ) with am0 = atan2(m2/A2, m_p/A_p) ∈ (−π, π] (the full quadrant: the one-argument
+///     arctan of [L], "Phase and initial value", fixes am0 only modulo π, i.e. the signs of sn and cn
+///     together, and is wrong when m_p < 0).
+///   Separatrix: m = (σ1 A1 sech u, G tanh u, σ3 A3 sech u), λ = σ1σ3 A1 A3 I31/(G I1 I3), u0 = asinh(m2/√(m1² + m3²))
+///     ([L], "Case (iii)": the published case (iii) forces m1, m3 to one sign; [L] adds the second sign).
+///   The sign of λ corrects [CFSZ]: it is that of m_a (here, with the sn component written +A2 sn; [L],
+///   "Case (i)"/"Case (ii)" give the same correction, λ = −σλ3 / −σλ1 with −B sn). Every sign above was
+///   checked by differentiating m(t) against Euler's equations and, end to end, by the tests.
+/// ~~~
+///
+/// Attitude. With the polar axis e_a (the component that keeps its sign, so ρ² = G² − m_a² > 0 throughout),
+/// the body frame B(m) = [b1 b2 b3], b3 = m/G, b1 = e_a × m/ρ, b2 = b3 × b1, depends on m alone, and
+/// ~~~{.unparsed}
+///     R_p(t) = R_p(0) B(m(0)) E(φ(t)) B(m(t))ᵀ,      E(φ) = rotation by φ about e3,
+/// ~~~
+/// keeps R_p m = μ by construction; R_p' = R_p hat(Ω) holds iff φ' = Ω·b3 − b2'·b1, which Euler's equations
+/// turn into the classical precession rate (Landau & Lifshitz, Mechanics, §37, for a = 3)
+/// ~~~{.unparsed}
+///     φ' = G (m_b²/I_b + m_c²/I_c)/ρ² = G/I_a − (G Δ_a/I_a)/ρ²,     ρ² = A_p² (1 − n sn²u),
+///     n = −I3 I21/(I1 I32) (a = 3) or −I1 I32/(I3 I21) (a = 1)  (n < 0: no pole),
+/// ~~~
+/// so, with Π(n; ϕ, κ) = ∫₀^ϕ dθ / ((1 − n sin²θ) √(1 − κ² sin²θ)) (Boost's and A&S's sign of n; GSL's is
+/// the opposite),
+/// ~~~{.unparsed}
+///     φ(t) = (G/I_a) t + s (G I31/(I1 I3 λ)) [Π(n; am u, κ) − Π(n; am u0, κ)],   s = +1 (a = 3), −1 (a = 1).
+/// ~~~
+/// This is the same Π(n) as [L]'s corrected "alternative quaternionic solution" (his n = I3 I21/(I1 I23) in
+/// case (ii), I1 I32/(I3 I12) in case (i)): his quaternion maps m to e_a by the smallest rotation, which adds
+/// an arctan(… sc u) term that jumps at every zero of cn; the frame B above differs from his by a rotation
+/// about m and needs no arctan and no unwrapping. On the separatrix the integral is elementary:
+/// ~~~{.unparsed}
+///     φ(t) = (2T/G) t − (Δ_a/(I_a λ G)) β [atan(β tanh u) − atan(β tanh u0)],   β = A_a/A_p,
+/// ~~~
+/// with a = 1 if A1 ≤ A3, else 3 (then ρ² ≥ G²/2).
+/// Special cases, exactly: m = 0 (rest); m along a principal axis (steady rotation, R_p(t) = R_p(0) exp(tΩ));
+/// two equal moments (I_j = I_k = I⊥ ≠ I_s: R_p(t) = R_p(0) exp(t hat(m(0))/I⊥) exp(t c ê_s),
+/// m(t) = exp(−t c ê_s) m(0), c = (1/I_s − 1/I⊥) m_s), and the sphere. Principal moments closer than
+/// 8 ε(T) I3 are taken equal (their mean): J itself is only known to ε(T) in T.
+///
+/// Numerics.
+/// - Elliptic integrals by Carlson's forms (DLMF §19.25(i), F: 19.25.5; Boost.Math ellint_rf/ellint_rj), fed
+///   with cn², dn² = cn² + m_c sn² and m_c, never 1 − κ² sin²: K = RF(0, m_c, 1), Π(n | κ) = K + (n/3) RJ(0,
+///   m_c, 1, 1 − n), Π(n; ϕ, κ) = s RF(c², d², 1) + (n/3) s³ RJ(c², d², 1, 1 − n s²) for |ϕ| ≤ π/2 (s, c =
+///   sin, cos ϕ; d² = c² + m_c s²), extended by Π(ϕ + jπ) = Π(ϕ) + 2jΠ(n | κ); checked against Boost's
+///   ellint_3/ellint_1 in the tests.
+/// - sn, cn, dn by the descending Landen transformation (DLMF §22.7(i), A&S 16.12) from κ and κ' = √m_c,
+///   rational on the way up (detail::jacobi). Not Boost's jacobi_elliptic, measured in the tests: it takes κ
+///   and rebuilds κ' by cancellation (sn, cn lose accuracy near the separatrix: docs/free_body_exact.md), its
+///   AGM takes asin of arguments → 1 where sn → ±1, and Boost 1.74 returns dn = 1 instead of κ' at u = K (0/0
+///   in its cos ϕ₀/cos(ϕ₁ − ϕ₀)).
+/// - Near the separatrix Δ2 cancels: it is summed in twice W's precision (error-free transformations), from
+///   Ω when J is diagonal and the input is (R, Ω) (Ω_p is then exact), so m_c keeps W's relative accuracy
+///   however small it is: with J diagonal the solution stays at round-off of a 113-bit integration over
+///   t ≤ 100 down to Δ2/G² = 1e-14 (closer, double data cannot resolve). With J non-diagonal the
+///   eigensolver's rounding (in long double) perturbs Δ2 by ≈ 1e-19 G², so the error grows like
+///   1e-19/(Δ2/G²) per period, and the 1e-12 accuracy holds only down to |Δ2|/G² ≈ 1e-7 (tests:
+///   SeparatrixAgainst113BitIntegration, the δ = ±1e-12, −1e-14 and non-diagonal −1e-8 cases in every run;
+///   more with LGI_SLOW_TESTS=1; the figures: docs/free_body_exact.md).
+/// - u is reduced to r ∈ [−K, K] (u = 2jK + r; sn, cn change sign with j, dn does not) for long times.
+/// - Round-off in t (Vilmart, J. Comput. Phys. 227 (2008)): the phases λt and φ(t) are linear in t, so the
+///   relative error of the constants λ, K, Π(n | κ), G/I_a becomes an absolute error growing linearly in t.
+///   Every constant and phase is computed in the wide type W (default long double, ε = 1.1e-19) and only the
+///   result is rounded to T (the error against a 113-bit evaluation, for W = double and long double:
+///   docs/free_body_exact.md).
+/// - Flows composed many times (flow(x, h), a splitting's sub-step) are formed as increments
+///   (Solution::increment): R + R (Q dM Qᵀ), Ω + Q (dm/I), with dM = M − I and dm = m(h) − m(0) O(h) and
+///   built without their O(1) parts — the addition theorems for sn, cn, dn (DLMF §22.8(i)) from the values at
+///   u0 read off m(0), and the frame increment B(m(h)) − B(m(0)) without cancellation. Rebuilt from scratch
+///   each call instead, m(h) and R(h) make the invariants drift linearly; as increments they random-walk
+///   (docs/free_body_exact.md). flow(x, 0) = x.
+///
+/// Exact: order ∞ up to round-off. Preserves R_p m = μ by construction (to round-off, with no growth in t),
+/// |m| and T to round-off (m(t) lies on the invariant curve for every t), R on SO(3) to round-off; the flow
+/// is a group: flow(t2) ∘ flow(t1) = flow(t1 + t2) to round-off (≈ ε (1 + |Ω| t2), the rounding of the
+/// intermediate state).
+///
+/// Scalars: T = float, double or long double; W ≥ T a floating-point type (long double, double, or a
+/// Boost.Multiprecision type, used by the tests as a 113-bit reference; the eigensolver then still runs in
+/// long double). Not ceres::Jet: the special functions are Boost's, for arithmetic types only.
+/// Cost: one solve = 1 RF + 1 RJ; one evaluation = one Landen descent + 1 RF + 1 RJ (+ 2 RF + 1 RJ for
+/// K, Π(n | κ) at long times or when am u crosses ±π/2); W = long double is several times slower than
+/// W = double (x87 transcendental functions; times per call: docs/free_body_exact.md, CostPerCall). Use
+/// `FreeBodyExact<double, double>` for splittings (short h: the linear growth in t is irrelevant, and
+/// invariants random-walk as above), the default W = long double as a reference solution.
+///
+/// References.
+/// [CFSZ] E. Celledoni, F. Fassò, N. Säfström, A. Zanna, "The exact computation of the free rigid body motion
+///   and its use in splitting methods", SIAM J. Sci. Comput. 30 (2008) 2084–2112: §2.2 (Euler's equations
+///   by Jacobi elliptic functions, cases (i)–(iii), section number as cited by [L] for the 2007 preprint);
+///   the attitude by Π. Equation numbers of the article could not be confirmed from a source available
+///   here; none are cited.
+/// [L] P. Leroy, "On an Article by Celledoni et al.", Principia repository (mockingbirdnest/Principia),
+///   documentation/Celledoni.tex (unnumbered sections named above): corrected λ signs, case (iii), Δ_j and
+///   m_c without cancellation, the Π(n) of the attitude angle.
+/// Landau & Lifshitz, Mechanics, 3rd ed., §37 (the precession rate of the free asymmetric top; equation
+///   number not confirmed). DLMF: NIST Digital Library of Mathematical Functions. A&S: Abramowitz & Stegun,
+///   Handbook of Mathematical Functions, 16.12–16.13 (Landen; small-parameter forms), 17.2 (Π's sign of n).
 #pragma once
 
 #include "../core/scalar.hpp"
@@ -289,6 +300,9 @@ void legendre_f_pi(const W& s, const W& c, const W& d2, const W& n, W& F, W& Pi)
 
 }  // namespace free_body_exact_detail
 
+/// The exact free rigid body of inertia J (this header): T the scalar of states (floating point; no Jets), W the
+/// working precision (at least T's). Immutable after construction: solve and flow may be called from several
+/// threads at once. Each evaluation costs O(1) in t: a few Jacobi elliptic functions and elliptic integrals.
 template <class T = double, class W = long double>
 class FreeBodyExact {
   static_assert(std::is_floating_point_v<T> && std::numeric_limits<W>::is_specialized && !std::numeric_limits<W>::is_integer,
@@ -296,18 +310,20 @@ class FreeBodyExact {
   static_assert(std::numeric_limits<W>::digits >= std::numeric_limits<T>::digits, "FreeBodyExact: W narrower than T");
 
  public:
+  /// The kind of motion, fixed by the initial momentum (this header's cases).
   enum class Regime {
-    rest,        // m = 0
-    steady,      // m along a principal axis: uniform rotation
-    symmetric,   // two (or three) equal principal moments: trigonometric solution
-    axis1,       // Δ2 < 0, [CFSZ] case (i): m circles the axis of the smallest moment
-    axis3,       // Δ2 > 0, [CFSZ] case (ii): m circles the axis of the largest moment
-    separatrix,  // Δ2 = 0, [CFSZ] case (iii)
+    rest,        ///< m = 0
+    steady,      ///< m along a principal axis: uniform rotation
+    symmetric,   ///< two (or three) equal principal moments: trigonometric solution
+    axis1,       ///< Δ2 < 0, [CFSZ] case (i): m circles the axis of the smallest moment
+    axis3,       ///< Δ2 > 0, [CFSZ] case (ii): m circles the axis of the largest moment
+    separatrix,  ///< Δ2 = 0, [CFSZ] case (iii)
   };
 
-  // The motion from one initial state at t = 0; state(t) at any t (also negative), O(1) cost in t.
+  /// The motion from one initial state at t = 0; state(t) at any t (also negative), O(1) cost in t.
   class Solution {
    public:
+    /// (R, Ω) at time t (any sign), evaluated in W and rounded to T once.
     State<T> state(const T& t) const {
       Mat3<W> Rp;
       Vec3<W> m;
@@ -315,13 +331,14 @@ class FreeBodyExact {
       const Vec3<W> Omega = Q_ * Vec3<W>(m.cwiseQuotient(I_));
       return {Mat3<W>(Rp * Q_.transpose()).template cast<T>(), Omega.template cast<T>()};
     }
+    /// (R, Π = JΩ) at time t (any sign), evaluated in W and rounded to T once.
     MomentumState<T> momentum_state(const T& t) const {
       Mat3<W> Rp;
       Vec3<W> m;
       evaluate(W(t), Rp, m);
       return {Mat3<W>(Rp * Q_.transpose()).template cast<T>(), Vec3<W>(Q_ * m).template cast<T>()};
     }
-    // The principal-axis body momentum at t (internal precision), for tests and diagnostics.
+    /// The principal-axis body momentum at t (internal precision), for tests and diagnostics.
     Vec3<W> principal_momentum(const W& t) const {
       Mat3<W> Rp;
       Vec3<W> m;
@@ -329,19 +346,20 @@ class FreeBodyExact {
       return m;
     }
 
+    /// Which case of the header the motion is.
     Regime regime() const { return regime_; }
-    // 1 − κ² (elliptic regimes): the distance to the separatrix; 0 on it.
+    /// 1 − κ² (elliptic regimes): the distance to the separatrix; 0 on it.
     W parameter_complement() const { return mc_; }
-    // Δ2/G²: signed relative distance to the separatrix (< 0: axis1, > 0: axis3).
+    /// Δ2/G²: signed relative distance to the separatrix (< 0: axis1, > 0: axis3).
     W relative_delta2() const { return delta2_rel_; }
-    // The motion over a short time t as increments, for flows composed many times (a splitting): with
-    // R_p(t) = R_p(0) M(t), returns dM = M(t) − I and dm = m(t) − m(0), both O(t) and formed without their
-    // O(1) parts, so that R + R·(Q dM Qᵀ) and m + dm carry round-off ∝ ε·|t| per call rather than ε, which
-    // would add up to a drift of the invariants over many calls (measured in the tests). Elliptic regimes:
-    // m(t) by the addition theorems (DLMF 22.8.1–22.8.3) from sn, cn, dn of u0 (read off m(0)) and of λt,
-    // with cn v − 1, dn v − 1 and 1 − κ² sn²u sn²v = cn²u + sn²u dn²v written without cancellation; the frame
-    // increment B(m(t)) − B(m(0)) likewise. Other regimes: their closed forms as increments (the separatrix,
-    // of measure zero, by difference). Requires |λt| ≤ 4 in the elliptic regimes (else: state(t)).
+    /// The motion over a short time t as increments, for flows composed many times (a splitting): with
+    /// R_p(t) = R_p(0) M(t), returns dM = M(t) − I and dm = m(t) − m(0), both O(t) and formed without their
+    /// O(1) parts, so that R + R·(Q dM Qᵀ) and m + dm carry round-off ∝ ε·|t| per call rather than ε, which
+    /// would add up to a drift of the invariants over many calls (measured in the tests). Elliptic regimes:
+    /// m(t) by the addition theorems (DLMF 22.8.1–22.8.3) from sn, cn, dn of u0 (read off m(0)) and of λt,
+    /// with cn v − 1, dn v − 1 and 1 − κ² sn²u sn²v = cn²u + sn²u dn²v written without cancellation; the frame
+    /// increment B(m(t)) − B(m(0)) likewise. Other regimes: their closed forms as increments (the separatrix,
+    /// of measure zero, by difference). Requires |λt| ≤ 4 in the elliptic regimes (else: state(t)).
     bool increment(const W& t, Mat3<W>& dM, Vec3<W>& dm) const {
       using std::abs;
       using std::atan2;
@@ -416,9 +434,9 @@ class FreeBodyExact {
       return true;
     }
 
-    // M − I = B0 E(φ) B1ᵀ − I = (B0 (E − I) − ΔB) B1ᵀ with the frame increment ΔB = B(m0 + dm) − B(m0)
-    // formed from dm without cancellation: Δb3 = dm/G, Δb1 = (e_a × dm)/ρ1 − (e_a × m0) Δρ/(ρ0 ρ1) with
-    // Δρ = (ρ1² − ρ0²)/(ρ0 + ρ1) = dm⊥·(2 m0⊥ + dm⊥)/(ρ0 + ρ1), Δb2 = Δb3 × b1_1 + b3_0 × Δb1.
+    /// M − I = B0 E(φ) B1ᵀ − I = (B0 (E − I) − ΔB) B1ᵀ with the frame increment ΔB = B(m0 + dm) − B(m0)
+    /// formed from dm without cancellation: Δb3 = dm/G, Δb1 = (e_a × dm)/ρ1 − (e_a × m0) Δρ/(ρ0 ρ1) with
+    /// Δρ = (ρ1² − ρ0²)/(ρ0 + ρ1) = dm⊥·(2 m0⊥ + dm⊥)/(ρ0 + ρ1), Δb2 = Δb3 × b1_1 + b3_0 × Δb1.
     Mat3<W> frame_increment(const Vec3<W>& dm, const W& phi_total) const {
       using std::sin;
       using std::sqrt;
@@ -442,7 +460,7 @@ class FreeBodyExact {
       return X * B1.transpose();
     }
 
-    // Separatrix: m(t) and φ(t).
+    /// Separatrix: m(t) and φ(t).
     void separatrix_motion(const W& t, Vec3<W>& m, W& phi) const {
       using std::atan;
       using std::cosh;
@@ -455,7 +473,7 @@ class FreeBodyExact {
       phi = rate_ * t - cphi_ * beta_ * (atan(beta_ * th) - atan0_);
     }
 
-    // Period of m(t) (elliptic regimes): 4K/|λ|.
+    /// Period of m(t) (elliptic regimes): 4K/|λ|.
     W period() const {
       using std::abs;
       return 4 * complete_k() / abs(lambda_);
@@ -546,24 +564,24 @@ class FreeBodyExact {
       }
     }
 
-    // K(κ) = RF(0, m_c, 1) and Π(n | κ) = K + (n/3) RJ(0, m_c, 1, 1 − n): only long times and a
-    // crossing of am u = ±π/2 need them, so they are not part of solve().
+    /// K(κ) = RF(0, m_c, 1) and Π(n | κ) = K + (n/3) RJ(0, m_c, 1, 1 − n): only long times and a
+    /// crossing of am u = ±π/2 need them, so they are not part of solve().
     W complete_k() const { return free_body_exact_detail::rf(W(0), mc_, W(1)); }
     W complete_pi() const { return complete_k() + (n_ / 3) * free_body_exact_detail::rj(W(0), mc_, W(1), W(1) - n_); }
 
-    // The increment of the amplitude over Δu = v, |v| ≤ 4, from its value modulo 2π: am' = dn ∈ [κ', 1], so
-    // Δam lies within |v|(1 − κ')/2 ≤ 2 of v(1 + κ')/2, and of the candidates d + 2πj exactly one does.
+    /// The increment of the amplitude over Δu = v, |v| ≤ 4, from its value modulo 2π: am' = dn ∈ [κ', 1], so
+    /// Δam lies within |v|(1 − κ')/2 ≤ 2 of v(1 + κ')/2, and of the candidates d + 2πj exactly one does.
     W branch(const W& d, const W& v) const {
       using std::floor;
       return d - two_pi() * floor((d - v * (1 + kc_) / 2) / two_pi() + W(0.5));
     }
 
-    // e_a × v for the polar axis.
+    /// e_a × v for the polar axis.
     Vec3<W> polar_cross(const Vec3<W>& v) const {
       return a_ == 2 ? Vec3<W>(-v(1), v(0), W(0)) : Vec3<W>(W(0), -v(2), v(1));
     }
 
-    // B(m) for the polar axis a_: columns b1 = e_a × m/ρ, b2 = b3 × b1, b3 = m/G.
+    /// B(m) for the polar axis a_: columns b1 = e_a × m/ρ, b2 = b3 × b1, b3 = m/G.
     Mat3<W> frame(const Vec3<W>& m) const {
       using std::sqrt;
       Mat3<W> B;
@@ -597,21 +615,21 @@ class FreeBodyExact {
     static W two_pi() { return 2 * boost::math::constants::pi<W>(); }
 
     Regime regime_ = Regime::rest;
-    Mat3<W> Q_;       // body = Q · principal
-    Vec3<W> I_;       // principal moments
-    Mat3<W> Rp0_;     // R(0) Q
-    Mat3<W> RB0_;     // R_p(0) B(m(0))
-    Mat3<W> B0_;      // B(m(0))
-    Vec3<W> m0_;      // principal body momentum at t = 0
-    Vec3<W> axis_ = Vec3<W>::Zero();  // steady/symmetric: unit rotation axis (body, principal frame)
-    Vec3<W> A_ = Vec3<W>::Zero();     // amplitudes A1, A2, A3
+    Mat3<W> Q_;       ///< body = Q · principal
+    Vec3<W> I_;       ///< principal moments
+    Mat3<W> Rp0_;     ///< R(0) Q
+    Mat3<W> RB0_;     ///< R_p(0) B(m(0))
+    Mat3<W> B0_;      ///< B(m(0))
+    Vec3<W> m0_;      ///< principal body momentum at t = 0
+    Vec3<W> axis_ = Vec3<W>::Zero();  ///< steady/symmetric: unit rotation axis (body, principal frame)
+    Vec3<W> A_ = Vec3<W>::Zero();     ///< amplitudes A1, A2, A3
     W G_ = 0, rate_ = 0, spin_ = 0, lambda_ = 0, u0_ = 0, k_ = 0, kc_ = 0, mc_ = 0, n_ = 0, F0_ = 0, Pir0_ = 0,
       j0_ = 0, am0_ = 0, phi_r0_ = 0, sn_u0_ = 0, cn_u0_ = 0, dn_u0_ = 0, rho0_ = 0, cphi_ = 0, sigma_ = 1, sigma1_ = 1, sigma3_ = 1, beta_ = 0, atan0_ = 0, delta2_rel_ = 0;
     int a_ = 2, p_ = 0, sym_axis_ = 2;
   };
 
-  // Diagonalises J once (in W). Throws std::invalid_argument unless J is finite, symmetric to 1e-12 and
-  // positive definite.
+  /// Diagonalises J once (in W). Throws std::invalid_argument unless J is finite, symmetric to 1e-12 and
+  /// positive definite.
   explicit FreeBodyExact(const Mat3<T>& inertia) : J_(inertia.template cast<W>()) {
     using std::abs;
     if (!J_.allFinite()) throw std::invalid_argument("FreeBodyExact: inertia is not finite");
@@ -654,9 +672,13 @@ class FreeBodyExact {
     }
   }
 
+  /// I1 ≤ I2 ≤ I3 (equal to within 8 ε(T) I3 are made exactly equal).
   const Vec3<W>& principal_moments() const { return I_; }
+  /// Q, a rotation with J = Q diag(I) Qᵀ (a signed permutation when J is diagonal).
   const Mat3<W>& principal_axes() const { return Q_; }
 
+  /// The motion from x0 at t = 0 (R a rotation, Ω any finite vector). Non-finite input gives a Solution whose
+  /// states are not finite; nothing throws.
   Solution solve(const State<T>& x0) const {
     const Vec3<W> Omega = x0.Omega.template cast<W>();
     if (diagonal_) {  // Ω in principal axes is exact (a signed permutation): Δ2 from Ω, see solve_principal
@@ -665,14 +687,15 @@ class FreeBodyExact {
     }
     return solve_principal(x0.R.template cast<W>(), Vec3<W>(Q_.transpose() * (J_ * Omega)), nullptr);
   }
+  /// The motion from (R, Π) at t = 0, as solve(State).
   Solution solve(const MomentumState<T>& y0) const {
     return solve_principal(y0.R.template cast<W>(), Vec3<W>(Q_.transpose() * y0.Pi.template cast<W>()), nullptr);
   }
 
-  // The exact flow over h: the free-body sub-flow of a splitting. Constants are recomputed from x (a
-  // kick changes them).
-  // As increments (Solution::increment): R + R (Q dM Qᵀ), Ω + Q (dm/I) or Π + Q dm, for |λh| ≤ 4; longer
-  // steps by direct evaluation.
+  /// The exact flow over h: the free-body sub-flow of a splitting. Constants are recomputed from x (a
+  /// kick changes them).
+  /// As increments (Solution::increment): R + R (Q dM Qᵀ), Ω + Q (dm/I) or Π + Q dm, for |λh| ≤ 4; longer
+  /// steps by direct evaluation.
   State<T> flow(const State<T>& x, const T& h) const {
     const Solution s = solve(x);
     Mat3<W> dM;
@@ -682,6 +705,7 @@ class FreeBodyExact {
     return {Mat3<W>(R + R * (Q_ * dM * Q_.transpose())).template cast<T>(),
             Vec3<W>(x.Omega.template cast<W>() + Q_ * dm.cwiseQuotient(I_)).template cast<T>()};
   }
+  /// The exact flow over h of the momentum form (R, Π), as flow(State).
   MomentumState<T> flow(const MomentumState<T>& y, const T& h) const {
     const Solution s = solve(y);
     Mat3<W> dM;
@@ -693,8 +717,8 @@ class FreeBodyExact {
   }
 
  private:
-  // m: principal body momentum; Omega_p: the principal angular velocity when it is exact (diagonal J,
-  // State input), for Δ2 without the rounding of m = IΩ.
+  /// m: principal body momentum; Omega_p: the principal angular velocity when it is exact (diagonal J,
+  /// State input), for Δ2 without the rounding of m = IΩ.
   Solution solve_principal(const Mat3<W>& R0, const Vec3<W>& m, const Vec3<W>* Omega_p) const {
     using std::abs;
     using std::asinh;

@@ -22,6 +22,7 @@ packages=(
   python3-matplotlib    # benchmarks: scripts/bench_report.py plots (Debian's /usr/bin/python3)
   clang libclang-rt-14-dev  # scene fuzzer (fuzz/): clang-14 only Recommends the libFuzzer/ASan runtimes (rt-14-dev)
   libopenmpi-dev openmpi-bin  # lgi_sweep_mpi (optional, apps/sweep_mpi.cpp): Open MPI, and mpirun for its test
+  doxygen               # the API reference (docs target) and its api_reference test (docs/Doxyfile.in)
 )
 # shellcheck disable=SC2206
 packages+=(${LGI_DEPS_EXTRA:-})
