@@ -73,6 +73,14 @@ class NoSink final : public lgi::RunSink {
   std::int64_t check(const lgi::Cursor<double>&) override { return std::numeric_limits<std::int64_t>::max(); }
 };
 
+// The steps timed (one period of bench::period_steps an iteration), as items and as the counter s_per_step.
+double report_steps(benchmark::State& st) {
+  const auto steps = static_cast<double>(st.iterations()) * bench::period_steps;
+  st.SetItemsProcessed(static_cast<std::int64_t>(steps));
+  st.counters["s_per_step"] = benchmark::Counter(steps, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  return steps;
+}
+
 void bm_engine(benchmark::State& st, const Scene& scene) {
   const std::unique_ptr<lgi::app::runner_detail::ProblemRunner> runner = scene.problem->runner();
   const std::unique_ptr<lgi::Integrator> engine = runner->integrator(scene);
@@ -91,9 +99,7 @@ void bm_engine(benchmark::State& st, const Scene& scene) {
     }
     benchmark::ClobberMemory();
   }
-  const auto steps = static_cast<double>(st.iterations()) * bench::period_steps;
-  st.SetItemsProcessed(static_cast<std::int64_t>(steps));
-  st.counters["s_per_step"] = benchmark::Counter(steps, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  const double steps = report_steps(st);
   if (const std::int64_t newton = engine->newton_iterations(); newton >= 0)
     st.counters["newton_per_step"] = static_cast<double>(newton) / steps;
 }
@@ -125,9 +131,7 @@ void bm_quat_rk4(benchmark::State& st) {
     }
     benchmark::ClobberMemory();
   }
-  const auto steps = static_cast<double>(st.iterations()) * bench::period_steps;
-  st.SetItemsProcessed(static_cast<std::int64_t>(steps));
-  st.counters["s_per_step"] = benchmark::Counter(steps, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  report_steps(st);
 }
 
 }  // namespace

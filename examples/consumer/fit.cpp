@@ -28,7 +28,8 @@ int main() {
   lgi::fit::FitOptions options;
   options.dt = 0.01;
   options.t_end = 4;
-  const auto result = lgi::fit::fit_observations<lgi::Lgvi>(body, guess, unknowns, observations, options);
+  // Jet size 3: the unknowns' three tangent coordinates in one pass.
+  const auto result = lgi::fit::fit_observations<lgi::Lgvi, 3>(body, guess, unknowns, observations, options);
   const double error = (result.initial.Omega - truth.Omega).norm();
   std::printf("lgi::fit: initial omega recovered to %.2e (%s)\n", error, result.usable ? "usable" : "not usable");
   return result.usable && error < 1e-8 ? 0 : 1;
