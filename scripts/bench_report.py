@@ -57,27 +57,62 @@ def fmt_slope(x):
     return "—" if x is None else "%.2f" % x
 
 
+# lgi's method families in the plots: each shows its PER_FAMILY fastest methods (by t(1e-8), then t(1e-6), the
+# tables' order); every method stays in the tables.
+FAMILIES = [
+    ("LGVI", lambda n: n.startswith("lgvi")),
+    ("splittings", lambda n: n.startswith("split_") or n.startswith("lagrange_split")),
+    ("RKMK", lambda n: n.startswith("rkmk")),
+    ("CF / CG", lambda n: n in ("cf4", "cg3")),
+    ("non-geometric baselines", lambda n: n.startswith("rk4_") or n.startswith("dop853_")),
+]
+PER_FAMILY = 2
+MARKERS = ["o", "s", "^", "v", "D", "P", "X", "*", "<", ">", "h", "p"]
+
+
+def speed_key(m):
+    t = m["t_at"].get("1e-08")
+    t6 = m["t_at"].get("1e-06")
+    return (t is None, t if t is not None else (t6 if t6 is not None else 1e9))
+
+
+def plotted_methods(case):
+    """lgi's PER_FAMILY fastest methods of each family, then every peer."""
+    lgi = [m for m in case["methods"] if m["library"] == "lgi"]
+    chosen = []
+    for _, member in FAMILIES:
+        chosen += sorted([m for m in lgi if member(m["name"])], key=speed_key)[:PER_FAMILY]
+    return chosen + [m for m in case["methods"] if m["library"] != "lgi"]
+
+
 def wp_plot(case, path):
-    fig, ax = plt.subplots(figsize=(8.5, 6))
-    styles = {}
-    for m in case["methods"]:
+    fig, ax = plt.subplots(figsize=(11, 6.2))
+    lgi_colours = plt.get_cmap("tab10").colors
+    peer_colours = plt.get_cmap("Dark2").colors + plt.get_cmap("Set1").colors
+    n_lgi = n_peer = 0
+    for m in plotted_methods(case):
         pts = [p for p in m["points"] if p.get("ok") and not p.get("below_reference") and p["error"] > 0]
         if not pts:
             continue
         xs = [p["seconds"] for p in pts]
         ys = [p["error"] for p in pts]
-        lgi = m["library"] == "lgi"
-        ls = "-" if lgi else "--"
-        marker = "o" if lgi else "s"
-        ax.loglog(xs, ys, ls, marker=marker, markersize=3, linewidth=1.2 if lgi else 1.0, label=m["name"])
-        styles[m["name"]] = lgi
+        if m["library"] == "lgi":
+            colour, marker, ls, label = lgi_colours[n_lgi % 10], MARKERS[n_lgi % len(MARKERS)], "-", m["name"]
+            n_lgi += 1
+        else:
+            colour = peer_colours[n_peer % len(peer_colours)]
+            marker, ls = MARKERS[(n_peer + 5) % len(MARKERS)], "--"
+            label = "%s (%s)" % (m["name"], m["library"])
+            n_peer += 1
+        ax.loglog(xs, ys, ls, color=colour, marker=marker, markersize=4, linewidth=1.3, label=label)
     for eps in (1e-6, 1e-8, 1e-10):
         ax.axhline(eps, color="0.8", linewidth=0.6, zorder=0)
     ax.set_xlabel("CPU time (s), median")
     ax.set_ylabel(r"error at T: $|\log(R_{ref}^T R)| + |\Omega - \Omega_{ref}|$")
-    ax.set_title("%s (T = %g); solid: lgi, dashed: peers" % (case["name"], case["t_eval"]))
+    ax.set_title("%s (T = %g): solid, lgi's %d fastest of each family; dashed, every peer; all methods in the table"
+                 % (case["name"], case["t_eval"], PER_FAMILY), fontsize=10)
     ax.grid(True, which="major", alpha=0.3)
-    ax.legend(fontsize=6, ncol=2, loc="lower left")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -195,11 +230,7 @@ def main():
         w("| method | library | order | t(1e-6) | t(1e-8) | t(1e-10) | best error | status |")
         w("|---|---|---:|---:|---:|---:|---:|---|")
 
-        def key(mm):
-            t = mm["t_at"].get("1e-08")
-            t6 = mm["t_at"].get("1e-06")
-            return (t is None, t if t is not None else (t6 if t6 is not None else 1e9))
-        for mm in sorted(c["methods"], key=key):
+        for mm in sorted(c["methods"], key=speed_key):
             errs = [p["error"] for p in mm["points"] if p.get("ok")]
             cells = []
             for eps in TARGETS:
