@@ -23,7 +23,6 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
-#include <cstdio>
 #include <limits>
 #include <memory>
 #include <string>
@@ -33,11 +32,12 @@ namespace {
 
 using lgi::app::Scene;
 
-// The scene's problem and initial state as JSON (17 significant digits: the doubles themselves).
+// The scene's problem and initial state as JSON (format_number: digits that read back as the same doubles).
 std::string vector_json(const lgi::Vec3<double>& v) {
-  char text[96];
-  std::snprintf(text, sizeof text, "[%.17g, %.17g, %.17g]", v.x(), v.y(), v.z());
-  return text;
+  using lgi::app::format_number;
+  std::string text = "[";
+  return text.append(format_number(v.x())).append(", ").append(format_number(v.y())).append(", ")
+      .append(format_number(v.z())).append("]");
 }
 std::string inertia_json(const lgi::Mat3<double>& J) {
   std::string text = "[";
@@ -45,10 +45,8 @@ std::string inertia_json(const lgi::Mat3<double>& J) {
   return text.append("]");
 }
 std::string problem_json(const lgi::HeavyTop<double>& p) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.17g", p.b);
   std::string text = R"({"type": "heavy_top", "inertia": )";
-  text.append(inertia_json(p.inertia)).append(R"(, "b": )").append(b);
+  text.append(inertia_json(p.inertia)).append(R"(, "b": )").append(lgi::app::format_number(p.b));
   text.append(R"(, "k": )").append(vector_json(p.k)).append(R"(, "z0": )").append(vector_json(p.z0));
   return text.append("}");
 }

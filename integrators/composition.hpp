@@ -329,7 +329,7 @@ using LgviSofroniouSpaletta10 = Composition<compositions::sofroniou_spaletta10, 
 
 /// Compositions of kick + DMV (splitting.hpp; scene names `split_dmv_<coefficients>`): the same maps as the
 /// LGVI's compositions (kick + DMV is the LGVI's map, NUMERICS.md), at the cost of the fast fixed-point
-/// DMV step in principal axes (benchmarks/callgrind_steps.sh) — the cheap high-order heavy-top methods.
+/// DMV step in principal axes — the cheap high-order heavy-top methods.
 /// split_dmv_yoshida4: kick + DMV composed with compositions::yoshida4 (order 4, 3 stages).
 template <RigidBodyProblem P>
 using SplitDmvYoshida4 = Composition<compositions::yoshida4, SplitDmv, P>;

@@ -49,11 +49,8 @@
 ///     (dmv_substeps), so it stays finite and bounded at any step (h|Ω| = 3: tests/integrators/test_dmv.cpp; there the
 ///     substeps are what keep it finite — the plain fixed point converges at the substep size too, Newton
 ///     only in fewer iterations).
-///     Cost: docs/performance.md ("Where the instructions go") counts a kick + DMV step source line by
-///     source line (benchmarks/callgrind_steps.sh); the solve is the largest part. The project builds for
-///     baseline x86-64 (and a run-time dispatched AVX2 copy, splitting.hpp, with the same results bit for
-///     bit). Fewer instructions at the baseline would need fewer sweeps, which no cheap predictor gives
-///     (dmv_solve), or weaker guarantees.
+///     Cost: the fixed-point solve is the largest part of a kick + DMV step; fewer sweeps would need a cheap
+///     predictor of the solution, which none gives (dmv_solve), or weaker guarantees.
 ///
 /// (c) `PreprocessedDmv<r>` — Hairer & Vilmart, J. Phys. A 39 (2006) 13225: DMV applied with modified
 ///     inverse moments 1/Ĩ_i = σ/I_i + δ, where σ = 1 + Σ_k s_k(η, χ), δ = Σ_k d_k(η, χ) are polynomials

@@ -37,7 +37,7 @@
 /// bounded) and are not accepted either.
 ///
 /// Cost: one Γ = Rᵀa (or none), one V(R), the gradients, and ≈ 40 flops per Newton update (usually one
-/// update and two residuals) — ≈ 150 flops; instructions per step with and without it: docs/performance.md.
+/// update and two residuals) — ≈ 150 flops a step.
 /// Effect (tests/integrators/test_projection.cpp): energy and m·k (free body: E and |JΩ|) within 1e-13 over 10⁶
 /// steps where the unprojected runs drift; the state error at T = 10 at most twice the unprojected one (the
 /// measured figures: docs/validation.md).

@@ -67,9 +67,8 @@
 /// exponential chart calls libm's sin at every stage with a torque once θ² = |u_i|² ≥ 1e-2. The price is in
 /// the error constants: at equal fixed steps DOP853 in Cayley coordinates is less accurate than in the
 /// exponential chart, by much more on the free body than on the heavy top (docs/findings.md), so the adaptive
-/// Cayley pair takes more steps for an error; it is cheaper per step (instructions per step of both charts:
-/// docs/performance.md, "Cost per step"). Dense output and error estimates are those above with cay in place of
-/// exp.
+/// Cayley pair takes more steps for an error, each one cheaper (no transcendental functions). Dense output and error
+/// estimates are those above with cay in place of exp.
 ///
 /// Verner's most efficient 9(8) pair (rkmk_vern9, rkmk_vern9_cayley; tableaus::verner9): 16 stages a step against
 /// DOP853's 12, for a solution of order 9 and an estimate of order 8 whose error constants are small; in Cayley

@@ -122,8 +122,7 @@ struct FlowTraits<PreprocessedDmv<T, R>> {
 #if defined(LGI_DISPATCH_CLONES)
 namespace detail {
 // The splitting step in double, compiled for the baseline and for AVX2 (core/scalar.hpp), with final states
-// equal to the last bit (tests/core/test_dispatch.cpp); the instructions per step of both copies:
-// docs/performance.md, "Run-time dispatch for AVX2" (benchmarks/callgrind_steps.sh).
+// equal to the last bit (tests/core/test_dispatch.cpp).
 template <class S>
 [[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_splitting_step(S& s, typename S::Internal& y,
                                                                                            double t, double h) {
