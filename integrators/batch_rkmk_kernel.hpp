@@ -216,7 +216,7 @@ void rkmk4_block(const Rkmk4Params& p, const Rkmk4IO& io, std::size_t first, dou
     V* const R = S[cur];
     const V* const Om = R + 9;
     V* const q = S[cur ^ 1];
-    V G[3];  // Γ = Rᵀk
+    V G[3]{};  // Γ = Rᵀk (zero and never read without Torque)
     if constexpr (Torque) {
       G[0] = (R[0] * k0 + R[3] * k1) + R[6] * k2;
       G[1] = (R[1] * k0 + R[4] * k1) + R[7] * k2;
