@@ -216,15 +216,15 @@ TYPED_TEST(So3Test, JacobiansMatchFiniteDifferences) {
 }
 
 // What is true of J_l (both are polynomials in hat(ω), which commutes with exp(ω)):
-// J_l(ω) = J_r(−ω) = J_r(ω)ᵀ = exp(ω) J_r(ω) = J_r(ω) exp(ω). Products of O(1) matrices: ≤ 8ε
-// (measured ≤ 2.3ε); the transpose is exact up to one rounding of the shared W² term.
+// J_l(ω) = J_r(ω)ᵀ = exp(ω) J_r(ω) = J_r(ω) exp(ω). Products of O(1) matrices: ≤ 8ε (measured ≤ 2.3ε); the transpose
+// is exact up to one rounding of the shared W² term. (so3.hpp computes J_l as J_r(−ω); what checks it independently
+// is JacobiansMatchFiniteDifferences, against central differences of exp from the left.)
 TYPED_TEST(So3Test, LeftJacobianIdentities) {
   using T = TypeParam;
   for_each_sample([&](double, const Vec3d& w) {
     const Mat3d Jl = values(so3::left_jacobian(lift<T>(w)));
     const Mat3d Jr = values(so3::right_jacobian(lift<T>(w)));
     const Mat3d R = so3::exp(w);
-    EXPECT_EQ(Jl, values(so3::right_jacobian(Vec3<T>(-lift<T>(w)))));
     EXPECT_LE(max_abs(Jl - Jr.transpose()), 2 * kEps);
     EXPECT_LE(max_abs(Jl - R * Jr), 8 * kEps);
     EXPECT_LE(max_abs(Jl - Jr * R), 8 * kEps);

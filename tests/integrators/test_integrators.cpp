@@ -1,5 +1,6 @@
 // Integrators, measured: observed convergence order against the declared one, exact steady rotation,
 // Jets through every integrator against finite differences, implicit-step failure as a status.
+#include "figures.hpp"
 #include "jet_check.hpp"
 #include "test_problems.hpp"
 
@@ -116,7 +117,7 @@ TYPED_TEST(IntegratorTest, SteadyRotationIsExactWithRotatedInertia) {
 TYPED_TEST(IntegratorTest, JetDerivativesMatchFiniteDifferences) {
   // The value part is the double computation to round-off (not bit for bit: Eigen vectorises double
   // products with another summation order, and the LGVI takes one more Newton update for Jets).
-  test::expect_heavy_top_jets_match<TypeParam::template type>(/*h=*/0.02, /*T=*/1.0, /*value_tol=*/1e-14);
+  test::expect_heavy_top_jets_match<TypeParam::template type>(/*h=*/0.02, /*T=*/1.0, /*value_tol=*/4e-15);
 }
 
 // A Jet that carries ∂/∂J01 through a diagonal-valued inertia: the integrators must not take their
@@ -227,14 +228,17 @@ TEST(Lgvi, IterationLimitIsHonoured) {
   EXPECT_LE(many.newton_iterations(), 6);
 }
 
-// Newton converges in one or two updates at ordinary step sizes (the predictor is third-order accurate).
+// Newton converges in one update at ordinary step sizes (the predictor is third-order accurate): a second update
+// in one step of ten would fail this.
 TEST(Lgvi, NewtonIterationsPerStep) {
   const auto problem = HeavyTop<double>::hairer_vilmart();
   Lgvi<HeavyTop<double>> stepper(problem);
   State<double> x = test::hairer_vilmart_state(problem);
   integrate_to(stepper, x, 0.0, 0.01, 100.0);
   const double per_step = static_cast<double>(stepper.newton_iterations()) / 10000;
-  EXPECT_LE(per_step, 2.0);
+  std::printf("lgvi, HV heavy top, 1e4 steps of h = 0.01: %lld Newton updates\n",
+              static_cast<long long>(stepper.newton_iterations()));
+  test::expect_figure("Newton updates per LGVI step, HV heavy top, h = 0.01", per_step, 1.1);
   EXPECT_GE(per_step, 1.0);
 }
 

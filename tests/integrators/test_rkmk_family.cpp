@@ -2,6 +2,7 @@
 // every RKMK method on the free body and on the non-diagonal heavy top against an independent reference;
 // R on SO(3) after 10⁶ steps; energy drift (and a test that would catch a method that did not drift);
 // steady rotations; Jets against finite differences; generic and reduced torque paths.
+#include "figures.hpp"
 #include "order_measure.hpp"
 #include "rk_order_conditions.hpp"
 #include "jet_check.hpp"
@@ -385,7 +386,8 @@ double drift_slope(const LongRun& run) {
   return test::fitted_order(ts, es);
 }
 
-// Every RKMK method declares exact_on_group: ‖RᵀR − I‖ ≤ 1e-12 after 10⁶ steps (HV heavy top, h = 0.01).
+// Every RKMK method declares exact_on_group: ‖RᵀR − I‖ after 10⁶ steps (HV heavy top, h = 0.01) is the random walk
+// of rounding of one update of R a step (figures.hpp).
 TYPED_TEST(RkmkFamily, MillionStepsStayOnSO3) {
   using S = typename TypeParam::template type<HeavyTop<double>>;
   static_assert(S::traits.exact_on_group);
@@ -394,7 +396,8 @@ TYPED_TEST(RkmkFamily, MillionStepsStayOnSO3) {
   std::printf("%-10s 1e6 steps h = 0.01: max |RtR - I| = %.3e, final relative energy error %.3e\n", S::traits.name.data(),
               run.orthogonality, run.energy_error.back());
   EXPECT_EQ(run.steps, 1'000'000);
-  EXPECT_LE(run.orthogonality, 1e-12);
+  test::expect_figure("|RtR - I| after 1e6 steps, " + std::string(S::traits.name), run.orthogonality,
+                      test::orthogonality_walk_bound(1e6));
 }
 
 // Not symplectic: the energy drifts (HV heavy top, h = 0.05, 2·10⁵ steps, T = 10⁴): mean shift ≈ 0.9 and drift
@@ -486,7 +489,7 @@ TYPED_TEST(RkmkFamily, SteadyRotationIsExact) {
 
 // Jets through 50 steps: derivatives with respect to Ω0 and b against central differences.
 TYPED_TEST(RkmkFamily, JetDerivativesMatchFiniteDifferences) {
-  test::expect_heavy_top_jets_match<TypeParam::template type>(0.02, 1.0, 1e-14);
+  test::expect_heavy_top_jets_match<TypeParam::template type>(0.02, 1.0, 4e-15);
 }
 
 // The heavy top seen only through torque(R): stage attitudes R·exp(u) instead of rotated Γ.

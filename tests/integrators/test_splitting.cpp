@@ -2,6 +2,7 @@
 // on the skew heavy top against the shared long-double reference, the axis order of the rotation
 // splitting (Fassò 2003: orders of magnitude in the energy error), 10⁷-step runs with the energy error's
 // drift slope, m·k and |Γ| (RKMK4 as the negative control that drifts), exact steady rotations, Jets.
+#include "figures.hpp"
 #include "test_problems.hpp"
 
 #include <lgi/core/driver.hpp>
@@ -19,6 +20,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <string>
 #include <vector>
 
 namespace lgi {
@@ -275,9 +278,14 @@ TYPED_TEST(SplittingLongRun, TenMillionStepsOnTheHeavyTop) {
               "max ||Gamma|-1| %.3e, max |RtR-I| %.3e\n",
               S::traits.name.data(), slope, max_of(run.energy), max_of(run.mk), max_of(run.gamma), max_of(run.orth));
   EXPECT_LT(std::abs(slope), 0.1);
-  EXPECT_LE(max_of(run.mk), 1e-12);
-  EXPECT_LE(max_of(run.gamma), 1e-12);
-  EXPECT_LE(max_of(run.orth), 1e-12);
+  // m·k: a random walk of rounding over 10⁷ steps, held to ≈ 3.5× each method's own; Γ and R come from a unit
+  // quaternion normalised every step, within a few ε of the sphere and of SO(3) however long the run.
+  const std::string name(S::traits.name);
+  const double mk_bound = name == "split_axes" ? 2.5e-12 : name == "split_dmv" ? 1.2e-12 : 1e-12;
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  test::expect_figure("m.k error over 1e7 steps, " + name, max_of(run.mk), mk_bound);
+  test::expect_figure("||Gamma| - 1| over 1e7 steps, " + name, max_of(run.gamma), 3e-15);
+  test::expect_figure("|RtR - I| over 1e7 steps, " + name, max_of(run.orth), 32 * eps);
 }
 
 // Negative control: the same measurement flags RKMK4's drift (h = 0.05, 2·10⁵ steps: NUMERICS.md).
