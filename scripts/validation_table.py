@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Writes the table of published figures in docs/validation.md from a ctest run's own output.
 
-Every test that guards a figure prints it as `[figure] NAME: measured M, bound B` (tests/figures.hpp). This script
+Every test that guards a figure prints it as `[figure] NAME: measured M, bound B` (or `bound >= B` for a figure that
+must stay at or above B; tests/figures.hpp). This script
 reads those lines from a CTest log, with the test that printed each, and replaces the table between the markers
 `<!-- figures: begin -->` and `<!-- figures: end -->` of docs/validation.md. Nothing else in the file changes.
 
@@ -17,7 +18,7 @@ import sys
 
 BEGIN, END = "<!-- figures: begin -->", "<!-- figures: end -->"
 TEST = re.compile(r"^\d+/\d+ Testing: (\S+)")
-FIGURE = re.compile(r"^\[figure\] (.+): measured (\S+), bound (\S+)$")
+FIGURE = re.compile(r"^\[figure\] (.+): measured (\S+), bound (>= )?(\S+)$")
 
 
 def read_figures(log: pathlib.Path):
@@ -29,15 +30,19 @@ def read_figures(log: pathlib.Path):
             continue
         m = FIGURE.match(line)
         if m and test:
-            figures[m.group(1)] = (test, float(m.group(2)), float(m.group(3)))
+            figures[m.group(1)] = (test, float(m.group(2)), float(m.group(4)), bool(m.group(3)))
     return figures
 
 
 def table(figures) -> str:
-    rows = ["| figure | test | bound | measured | bound / measured |", "|---|---|---:|---:|---:|"]
-    for name, (test, measured, bound) in sorted(figures.items(), key=lambda kv: (kv[1][0], kv[0])):
-        ratio = "—" if measured == 0 else f"{bound / measured:.1f}"
-        rows.append(f"| {name.replace('|', chr(92) + '|')} | `{test}` | {bound:.3g} | {measured:.3g} | {ratio} |")
+    rows = ["| figure | test | bound | measured | margin |", "|---|---|---:|---:|---:|"]
+    for name, (test, measured, bound, at_least) in sorted(figures.items(), key=lambda kv: (kv[1][0], kv[0])):
+        if at_least:
+            ratio = f"{measured / bound:.1f}"
+        else:
+            ratio = "—" if measured == 0 else f"{bound / measured:.1f}"
+        shown = f"≥ {bound:.3g}" if at_least else f"{bound:.3g}"
+        rows.append(f"| {name.replace('|', chr(92) + '|')} | `{test}` | {shown} | {measured:.3g} | {ratio} |")
     return "\n".join(rows)
 
 
