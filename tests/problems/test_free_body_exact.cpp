@@ -28,7 +28,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -695,45 +694,6 @@ TEST(FreeBodyExact, JacobiFunctionsNearTheSeparatrix) {
     std::printf("    %.0Le  |          %.1Le             |          %.1Le     | %.1Le\n", mc, own, boost_sncn, boost_dn);
     EXPECT_LE(own, 2e-18) << "m_c = " << mc;
   }
-}
-
-// ---------------------------------------------------------------------------------------------------
-// Cost per call (printed, not asserted: a shared, noisy machine). flow(y, h) recomputes the constants from
-// y each call, as a splitting needs; state(t) of a precomputed Solution does not.
-TEST(FreeBodyExact, CostPerCall) {
-  const Mat3<double> J = diag(0.6, 0.8, 1.0);
-  const auto time = [](auto&& f, int n) {
-    double best = 1e300;
-    for (int rep = 0; rep < 3; ++rep) {
-      const auto t0 = std::chrono::steady_clock::now();
-      for (int i = 0; i < n; ++i) f(i);
-      best = std::min(best, std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count() / n);
-    }
-    return best;
-  };
-  const auto flow_cost = [&](const auto& exact, int n) {
-    MomentumState<double> y{Mat3<double>::Identity(), Vec3<double>(1.8, 0.4, -0.9)};
-    const double ns = time([&](int) { y = exact.flow(y, 0.01); }, n);
-    const auto sol = exact.solve(y);
-    double sink = 0;
-    const double short_t = time([&](int i) { sink += sol.state(0.01 * (i % 50)).Omega(0); }, n);
-    const double long_t = time([&](int i) { sink += sol.state(1e3 + i).Omega(0); }, n);
-    EXPECT_TRUE(std::isfinite(sink));
-    return std::array<double, 3>{ns, short_t, long_t};
-  };
-  const auto d = flow_cost(FreeBodyExact<double, double>(J), 20000);
-  const auto l = flow_cost(FreeBodyExact<double, L>(J), 4000);
-  double sink = 0;
-  const double boost_jacobi = time(
-      [&](int i) {
-        double cn, dn;
-        sink += boost::math::jacobi_elliptic(0.7, 1e-3 * i, &cn, &dn) + cn + dn;
-      },
-      20000);
-  EXPECT_TRUE(std::isfinite(sink));
-  std::printf("ns per call: flow(y, h): W = double %.0f, W = long double %.0f; Solution::state(t), t <= 0.5: %.0f / %.0f; "
-              "t ~ 1e3: %.0f / %.0f; (Boost jacobi_elliptic, double, default policy: %.0f)\n",
-              d[0], l[0], d[1], l[1], d[2], l[2], boost_jacobi);
 }
 
 // No heap allocation in flow or state (Boost's special functions, fixed-size Eigen).
