@@ -13,6 +13,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 
@@ -59,6 +63,40 @@ TEST(Dispatch, SplittingStepsEqualTheBaselineBitForBit) {
   every_case<SplitDmv4>("split_dmv4");
   every_case<SplitDmv10>("split_dmv10");
   every_case<SplitAxes>("split_axes");
+}
+
+// Negative control: the same steps compiled with FMA contraction (dispatch_fma_control.cpp, a program of its own)
+// end in other bits, so the comparison above would fail a copy whose flags contracted a·b + c.
+TEST(Dispatch, AContractedCopyWouldFailTheComparison) {
+#if defined(LGI_DISPATCH_FMA_CONTROL)
+  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) GTEST_SKIP() << "this CPU has no AVX2 and FMA";
+  const HeavyTop<double> top = test::skew_heavy_top();
+  SplitDmv<HeavyTop<double>> stepper(top);
+  auto y = stepper.to_internal(test::skew_initial_state(), 0.0);
+  for (int n = 0; n < 3000; ++n) ASSERT_EQ(stepper.step_inline(y, n * 0.01, 0.01), StepStatus::ok);
+  const State<double> x = stepper.to_state(y);
+  std::FILE* pipe = popen(LGI_DISPATCH_FMA_CONTROL, "r");
+  ASSERT_NE(pipe, nullptr);
+  int differ = 0, read = 0;
+  double largest = 0;
+  for (int i = 0; i < 12; ++i) {
+    std::uint64_t bits = 0;
+    if (std::fscanf(pipe, "%" SCNx64, &bits) != 1) break;
+    ++read;
+    double v;
+    std::memcpy(&v, &bits, sizeof v);
+    const double mine = i < 9 ? x.R.data()[i] : x.Omega[i - 9];
+    differ += std::memcmp(&v, &mine, sizeof v) != 0;
+    largest = std::max(largest, std::abs(v - mine));
+  }
+  ASSERT_EQ(pclose(pipe), 0);
+  ASSERT_EQ(read, 12);
+  std::printf("split_dmv, skew top, 3000 steps: the FMA-contracted copy differs in %d of 12 numbers, by up to %.2e\n",
+              differ, largest);
+  EXPECT_GT(differ, 0);
+#else
+  GTEST_SKIP() << "no FMA control program in this build (x86-64 with GCC only)";
+#endif
 }
 
 }  // namespace
