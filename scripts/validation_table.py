@@ -2,7 +2,8 @@
 """Writes the table of published figures in docs/validation.md from a ctest run's own output.
 
 Every test that guards a figure prints it as `[figure] NAME: measured M, bound B` (or `bound >= B` for a figure that
-must stay at or above B; tests/figures.hpp). This script
+must stay at or above B; tests/figures.hpp). Figures whose name ends in "(negative control)" are a broken method's,
+printed by the control that shows the check fails it: they are left out. This script
 reads those lines from a CTest log, with the test that printed each, and replaces the table between the markers
 `<!-- figures: begin -->` and `<!-- figures: end -->` of docs/validation.md. Nothing else in the file changes.
 
@@ -29,7 +30,7 @@ def read_figures(log: pathlib.Path):
             test = m.group(1).split("<")[0]
             continue
         m = FIGURE.match(line)
-        if m and test:
+        if m and test and not m.group(1).endswith("(negative control)"):
             figures[m.group(1)] = (test, float(m.group(2)), float(m.group(4)), bool(m.group(3)))
     return figures
 

@@ -11,6 +11,7 @@
 #include <lgi/problems/heavy_top.hpp>
 
 #include <ceres/jet.h>
+#include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -226,6 +227,29 @@ TEST(Lgvi, IterationLimitIsHonoured) {
   EXPECT_EQ(one.step(y1, 0.0, 0.5), StepStatus::not_converged);
   EXPECT_EQ(many.step(y2, 0.0, 0.5), StepStatus::ok);
   EXPECT_LE(many.newton_iterations(), 6);
+}
+
+// Negative control of the Jet check (jet_check.hpp): an LGVI that loses one derivative — the ∂/∂b part of its
+// momentum after every step, as a step that let b's derivative fall out of the torque would — fails it.
+template <class P>
+struct LgviDroppingDb : Lgvi<P> {
+  using Lgvi<P>::Lgvi;
+  static constexpr MethodTraits traits = [] {
+    MethodTraits t = Lgvi<P>::traits;
+    t.name = "lgvi dropping d/db (negative control)";  // scripts/validation_table.py leaves it out of the table
+    return t;
+  }();
+  StepStatus step(typename Lgvi<P>::Internal& y, const typename Lgvi<P>::Scalar& t, const typename Lgvi<P>::Scalar& h) {
+    const StepStatus s = Lgvi<P>::step(y, t, h);
+    if constexpr (!std::is_same_v<typename Lgvi<P>::Scalar, double>)
+      for (int i = 0; i < 3; ++i) y.Pi[i].v[3] = 0;
+    return s;
+  }
+};
+
+TEST(JetCheck, FailsAMethodThatDropsADerivative) {
+  EXPECT_NONFATAL_FAILURE(test::expect_heavy_top_jets_match<LgviDroppingDb>(0.02, 1.0, 4e-15),
+                          "Jet derivatives vs central differences");
 }
 
 // Newton converges in one update at ordinary step sizes (the predictor is third-order accurate): a second update
