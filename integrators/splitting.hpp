@@ -264,8 +264,8 @@ class Splitting {
  private:
   static constexpr bool reduced = P::has_torque && ReducedAttitudeProblem<P>;
   /// A reduced torque that is a cross product M = Γ × v with a constant v (core/problem.hpp): the torque is
-  /// then Γ_p × Qᵀv, one cross product with a vector rotated to principal axes once (fewer instructions a step
-  /// than through reduced_torque, more so with a non-diagonal J: docs/performance.md).
+  /// then Γ_p × Qᵀv, one cross product with a vector rotated to principal axes once, where reduced_torque would
+  /// (with a non-diagonal J) take Γ to the body frame and the torque back to principal axes every step.
   static constexpr bool has_lever = LeverTorqueProblem<P>;
 
   /// Principal-axis torque at the attitude q.
