@@ -81,22 +81,14 @@ void run_blocks_avx512(const LgviParams& p, const LgviIO& io, std::size_t block_
 template <class P>
 concept LgviBatchProblem = std::same_as<P, HeavyTop<double>> || std::same_as<P, FreeBody<double>>;
 
-/// Integrates every body of `batch` n_steps steps of h with `Lgvi<P>`(problem, options) (per body: b[i] in place of
-/// problem.b when `b` is not empty; heavy top only). Returns the kernel that ran. Throws std::invalid_argument
-/// for a bad argument (b's length, b with the free body, avx2 or avx512 requested but unavailable, h, n_steps,
-/// options).
+namespace batch_kernel {
+/// What every body of an LGVI batch shares, exactly as `Lgvi<P>`(problem, options)'s constructor and solve_cayley
+/// compute them. Precondition: problem.inertia diagonal (not checked; integrate_batch_lgvi runs other J per body).
 template <LgviBatchProblem P>
-BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, double h, std::int64_t n_steps,
-                                 const StepperOptions& options = {}, const BatchOptions& batch_options = {},
-                                 std::span<const double> b = {}, BatchKernel kernel = BatchKernel::automatic) {
+LgviParams lgvi_params(const P& problem, const StepperOptions& options) {
   constexpr bool torque = std::same_as<P, HeavyTop<double>>;
-  kernel = detail::batch_prologue<Lgvi, torque>("lgi::integrate_batch_lgvi", problem, batch, t0, h, n_steps, options,
-                                                   batch_options, b, kernel);
-  if (kernel == BatchKernel::per_body) return kernel;
   const Inertia<double> J(problem.inertia);
-
-  // The shared data, exactly as Lgvi's constructor and solve_cayley compute them.
-  batch_kernel::LgviParams p{};
+  LgviParams p{};
   const auto inf_norm = [](const Mat3<double>& M) {
     double n = 0;
     for (int r = 0; r < 3; ++r) {
@@ -127,7 +119,23 @@ BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, 
     }
     p.b = problem.b;
   }
+  return p;
+}
+}  // namespace batch_kernel
 
+/// Integrates every body of `batch` n_steps steps of h with `Lgvi<P>`(problem, options) (per body: b[i] in place of
+/// problem.b when `b` is not empty; heavy top only). Returns the kernel that ran. Throws std::invalid_argument
+/// for a bad argument (b's length, b with the free body, avx2 or avx512 requested but unavailable, h, n_steps,
+/// options).
+template <LgviBatchProblem P>
+BatchKernel integrate_batch_lgvi(const P& problem, BodyBatch& batch, double t0, double h, std::int64_t n_steps,
+                                 const StepperOptions& options = {}, const BatchOptions& batch_options = {},
+                                 std::span<const double> b = {}, BatchKernel kernel = BatchKernel::automatic) {
+  constexpr bool torque = std::same_as<P, HeavyTop<double>>;
+  kernel = detail::batch_prologue<Lgvi, torque>("lgi::integrate_batch_lgvi", problem, batch, t0, h, n_steps, options,
+                                                   batch_options, b, kernel);
+  if (kernel == BatchKernel::per_body) return kernel;
+  const batch_kernel::LgviParams p = batch_kernel::lgvi_params(problem, options);
   const auto io = batch_kernel::bind_io(batch, b);
   detail::run_batch_blocks(
       batch.size(), kernel, batch_options,

@@ -85,21 +85,15 @@ static_assert(rkmk4_kernel_pattern(), "batch_rkmk_kernel.hpp assumes the classic
 template <class P>
 concept Rkmk4BatchProblem = std::same_as<P, HeavyTop<double>> || std::same_as<P, FreeBody<double>>;
 
-/// Integrates every body of `batch` n_steps steps of h with `Rkmk4<P>`(problem, options) (per body: b[i] in place of
-/// problem.b when `b` is not empty; heavy top only). Returns the kernel that ran. Throws std::invalid_argument for
-/// a bad argument (b's length, b with the free body, a kernel requested but unavailable, h, n_steps, options).
+namespace batch_kernel {
+/// What every body of an RKMK4 batch shares, exactly as `Rkmk4<P>`(problem)'s constructor and the classical RK4
+/// tableau give them. Precondition: problem.inertia diagonal (not checked; integrate_batch_rkmk4 runs other J per
+/// body).
 template <Rkmk4BatchProblem P>
-BatchKernel integrate_batch_rkmk4(const P& problem, BodyBatch& batch, double t0, double h, std::int64_t n_steps,
-                                  const StepperOptions& options = {}, const BatchOptions& batch_options = {},
-                                  std::span<const double> b = {}, BatchKernel kernel = BatchKernel::automatic) {
+Rkmk4Params rkmk4_params(const P& problem) {
   constexpr bool torque = std::same_as<P, HeavyTop<double>>;
-  kernel = detail::batch_prologue<Rkmk4, torque>("lgi::integrate_batch_rkmk4", problem, batch, t0, h, n_steps, options,
-                                                   batch_options, b, kernel);
-  if (kernel == BatchKernel::per_body) return kernel;
   const Inertia<double> J(problem.inertia);
-
-  // The shared data, exactly as Rkmk4's constructor and the tableau give them.
-  batch_kernel::Rkmk4Params p{};
+  Rkmk4Params p{};
   for (int j = 0; j < 3; ++j) {
     p.J[j] = J.J(j, j);
     p.J_inv[j] = J.J_inv(j, j);
@@ -119,8 +113,23 @@ BatchKernel integrate_batch_rkmk4(const P& problem, BodyBatch& batch, double t0,
   p.b1 = T.b[1];
   p.b2 = T.b[2];
   p.b3 = T.b[3];
-  p.exp_coefficients = &batch_kernel::rkmk4_exp_coefficients;
+  p.exp_coefficients = &rkmk4_exp_coefficients;
+  return p;
+}
+}  // namespace batch_kernel
 
+/// Integrates every body of `batch` n_steps steps of h with `Rkmk4<P>`(problem, options) (per body: b[i] in place of
+/// problem.b when `b` is not empty; heavy top only). Returns the kernel that ran. Throws std::invalid_argument for
+/// a bad argument (b's length, b with the free body, a kernel requested but unavailable, h, n_steps, options).
+template <Rkmk4BatchProblem P>
+BatchKernel integrate_batch_rkmk4(const P& problem, BodyBatch& batch, double t0, double h, std::int64_t n_steps,
+                                  const StepperOptions& options = {}, const BatchOptions& batch_options = {},
+                                  std::span<const double> b = {}, BatchKernel kernel = BatchKernel::automatic) {
+  constexpr bool torque = std::same_as<P, HeavyTop<double>>;
+  kernel = detail::batch_prologue<Rkmk4, torque>("lgi::integrate_batch_rkmk4", problem, batch, t0, h, n_steps, options,
+                                                   batch_options, b, kernel);
+  if (kernel == BatchKernel::per_body) return kernel;
+  const batch_kernel::Rkmk4Params p = batch_kernel::rkmk4_params(problem);
   const auto io = batch_kernel::bind_io(batch, b);
   detail::run_batch_blocks(
       batch.size(), kernel, batch_options,

@@ -6,6 +6,7 @@
 // batch sizes that are not multiples of the lane width; 1, 2 and 3 threads; bodies that fail (not_converged,
 // non_finite) in the middle of a run; the generic per-body driver with RKMK4 and with per-body problems.
 // The reference is always a fresh single-body Lgvi (or Rkmk4) stepper stepped by hand.
+#include "batch_kernel_controls.hpp"
 #include "fp_traps.hpp"
 
 #include <lgi/core/batch.hpp>
@@ -22,7 +23,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <functional>
 #include <ostream>
 #include <random>
 #include <set>
@@ -61,13 +64,19 @@ Outcome single(S stepper, const State<double>& x0, double t0, double h, std::int
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-// Bit-for-bit comparison of body i with its reference; reports the first difference.
-void expect_identical(const BodyBatch& batch, std::size_t i, const Outcome& ref, const char* what) {
+// Body i of the batch equals its reference bit for bit (state, status and steps).
+bool identical(const BodyBatch& batch, std::size_t i, const Outcome& ref) {
   const State<double> x = batch.state(i);
   bool same = batch.status[i] == ref.status && batch.steps[i] == ref.steps;
   for (int e = 0; e < 9; ++e) same = same && same_bits(x.R.data()[e], ref.x.R.data()[e]);
   for (int j = 0; j < 3; ++j) same = same && same_bits(x.Omega(j), ref.x.Omega(j));
-  EXPECT_TRUE(same) << what << ": body " << i << " status " << to_string(batch.status[i]) << " / "
+  return same;
+}
+
+// Bit-for-bit comparison of body i with its reference; reports the first difference.
+void expect_identical(const BodyBatch& batch, std::size_t i, const Outcome& ref, const char* what) {
+  const State<double> x = batch.state(i);
+  EXPECT_TRUE(identical(batch, i, ref)) << what << ": body " << i << " status " << to_string(batch.status[i]) << " / "
                     << to_string(ref.status) << ", steps " << batch.steps[i] << " / " << ref.steps
                     << ", R(0,0) " << x.R(0, 0) << " / " << ref.x.R(0, 0) << " (diff " << x.R(0, 0) - ref.x.R(0, 0)
                     << "), Omega(0) " << x.Omega(0) << " / " << ref.x.Omega(0);
@@ -419,6 +428,72 @@ TEST(Batch, Rkmk4NonDiagonalInertiaRunsPerBodyAndBadArgumentsThrow) {
   EXPECT_THROW(integrate_batch_rkmk4(HeavyTop<double>::hairer_vilmart(), five, 0.0, 0.0, 10), std::invalid_argument);
   EXPECT_EQ(integrate_batch_rkmk4(HeavyTop<double>::hairer_vilmart(), five, 0.0, 0.1, 10), batch_widest_kernel());
 }
+
+#if defined(LGI_BATCH_CONTROLS)
+// The negative controls (batch_kernel_controls.hpp): the AVX2 lane blocks compiled with FMA contraction, or with
+// reassociated sums, on the scenario of HeavyTopLgviEqualsSingleBodyBitForBit / HeavyTopRkmk4EqualsSingleBodyBitForBit
+// (37 heavy tops, per-body b): the comparison that holds the library's kernels to the single-body bits must fail
+// them, while the library's own AVX2 blocks pass it on the same input.
+TEST(Batch, ContractedOrReassociatedKernelsFailTheComparison) {
+  if (!batch_kernel_available(BatchKernel::avx2))
+    GTEST_SKIP() << "no AVX2 and FMA here: the negative controls of the AVX2 kernel cannot run";
+  const HeavyTop<double> top = HeavyTop<double>::hairer_vilmart();
+  const std::size_t n = 37, blocks = (n + 7) / 8;
+  const double t0 = 0.5, h = 0.04;
+  const std::int64_t steps = 150;
+  const auto x0 = random_bodies(n, 30.0, 11);
+  std::vector<double> b(n);
+  for (std::size_t i = 0; i < n; ++i) b[i] = 3.0 * static_cast<double>(i % 5) / 5.0;
+  std::vector<Outcome> lgvi_ref(n), rkmk4_ref(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    HeavyTop<double> p = top;
+    p.b = b[i];
+    lgvi_ref[i] = single(Lgvi<HeavyTop<double>>(p), x0[i], t0, h, steps);
+    rkmk4_ref[i] = single(Rkmk4<HeavyTop<double>>(p), x0[i], t0, h, steps);
+  }
+  const batch_kernel::LgviParams lp = batch_kernel::lgvi_params(top, StepperOptions{});
+  const batch_kernel::Rkmk4Params rp = batch_kernel::rkmk4_params(top);
+  // Bodies that differ from their single-body run, and the largest difference in R or Ω among them.
+  const auto differing = [&](const std::vector<Outcome>& ref, const auto& run, double& largest) {
+    BodyBatch batch = make_batch(x0);
+    run(batch_kernel::bind_io(batch, b));
+    int count = 0;
+    largest = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (identical(batch, i, ref[i])) continue;
+      ++count;
+      const State<double> x = batch.state(i);
+      largest = std::max({largest, (x.R - ref[i].x.R).cwiseAbs().maxCoeff(),
+                          (x.Omega - ref[i].x.Omega).cwiseAbs().maxCoeff()});
+    }
+    return count;
+  };
+  namespace bk = batch_kernel;
+  struct Case {
+    const char* name;
+    std::function<void(const bk::BatchIO&)> run;
+    const std::vector<Outcome>* ref;
+  };
+  const Case cases[] = {
+      {"lgvi, library avx2", [&](const bk::BatchIO& io) { bk::run_blocks_avx2(lp, io, 0, blocks, h, steps, true); }, &lgvi_ref},
+      {"lgvi, contracted", [&](const bk::BatchIO& io) { bk::avx2_contracted::lgvi_control_blocks(lp, io, 0, blocks, h, steps, true); }, &lgvi_ref},
+      {"lgvi, reassociated", [&](const bk::BatchIO& io) { bk::avx2_reassociated::lgvi_control_blocks(lp, io, 0, blocks, h, steps, true); }, &lgvi_ref},
+      {"rkmk4, library avx2", [&](const bk::BatchIO& io) { bk::rkmk4_blocks_avx2(rp, io, 0, blocks, h, steps, true); }, &rkmk4_ref},
+      {"rkmk4, contracted", [&](const bk::BatchIO& io) { bk::avx2_contracted::rkmk4_control_blocks(rp, io, 0, blocks, h, steps, true); }, &rkmk4_ref},
+      {"rkmk4, reassociated", [&](const bk::BatchIO& io) { bk::avx2_reassociated::rkmk4_control_blocks(rp, io, 0, blocks, h, steps, true); }, &rkmk4_ref},
+  };
+  for (const Case& c : cases) {
+    double largest = 0;
+    const int count = differing(*c.ref, c.run, largest);
+    std::printf("AVX2 lane blocks, %-20s %2d of %zu bodies differ from their single-body runs (largest |difference| "
+                "%.2e)\n", c.name, count, n, largest);
+    if (std::string(c.name).find("library") != std::string::npos)
+      EXPECT_EQ(count, 0) << c.name;
+    else
+      EXPECT_GT(count, 0) << c.name << ": the negative control passes the bit-identity comparison";
+  }
+}
+#endif
 
 INSTANTIATE_TEST_SUITE_P(Batch, BatchKernels, ::testing::ValuesIn(all_kernels), kernel_test_name);
 

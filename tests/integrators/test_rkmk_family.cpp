@@ -540,11 +540,10 @@ State<double> values(const State<Jet1>& x) {
 template <class P>
 using JetOf = decltype(std::declval<const P&>().template cast<Jet1>());
 
-// The largest distance between the double run (principal axes) and the Jet run (body frame) over `steps` steps.
-template <template <class> class Method, class P>
-double principal_against_body_frame(const P& problem, const State<double>& x0, double h, int steps) {
-  Method<P> d(problem);
-  Method<JetOf<P>> j(problem.template cast<Jet1>());
+// The largest distance between the double stepper d's run (principal axes) and the Jet stepper j's run (body
+// frame) over `steps` steps.
+template <class Double, class Jet>
+double principal_against_body_frame(Double d, Jet j, const State<double>& x0, double h, int steps) {
   EXPECT_FALSE(d.internal_is_body_frame());
   EXPECT_TRUE(j.internal_is_body_frame());
   auto y = d.to_internal(x0, 0.0);
@@ -557,6 +556,28 @@ double principal_against_body_frame(const P& problem, const State<double>& x0, d
   }
   return worst;
 }
+
+template <template <class> class Method, class P>
+double principal_against_body_frame(const P& problem, const State<double>& x0, double h, int steps) {
+  return principal_against_body_frame(Method<P>(problem), Method<JetOf<P>>(problem.template cast<Jet1>()), x0, h,
+                                      steps);
+}
+
+// The negative control of the comparison: RKMK4 whose internal frame is wrong by F at the edges of the run —
+// (R, Ω) enters as (R Q F, Fᵀ Qᵀ Ω) and leaves through the inverse, while its steps use J = diag(I) and the lever
+// Qᵀv of the true principal axes Q.
+template <class P>
+struct MisframedRkmk4 : Rkmk4<P> {
+  Mat3<double> F;
+  MisframedRkmk4(const P& problem, const Mat3<double>& frame_error) : Rkmk4<P>(problem), F(frame_error) {}
+  State<double> to_internal(const State<double>& x, double t) const {
+    State<double> y = Rkmk4<P>::to_internal(x, t);
+    return {Mat3<double>(y.R * F), Vec3<double>(F.transpose() * y.Omega)};
+  }
+  State<double> to_state(const State<double>& y) const {
+    return Rkmk4<P>::to_state({Mat3<double>(y.R * F.transpose()), Vec3<double>(F * y.Omega)});
+  }
+};
 
 template <template <class> class Method, class P>
 void adaptive_principal_against_body_frame(const char* name, const P& problem, const State<double>& x0, double h,
@@ -609,6 +630,26 @@ TEST(RkmkPrincipalAxes, StepsEqualTheBodyFrameStepsToRounding) {
   test::expect_figure("principal axes vs body frame over 200 steps, rkmk4_cayley", e4c, 3e-14);
   test::expect_figure("principal axes vs body frame over 200 steps, rkmk_dp8", e8, 4.5e-14);
   test::expect_figure("principal axes vs body frame over 200 steps, rkmk_vern9_cayley", e9c, 3.5e-14);
+}
+
+// Negative controls: the same comparison fails a run in principal axes reflected (F = diag(1, 1, −1), det Q F = −1:
+// the axes Eigen's eigensolver may return when PrincipalAxes drops its determinant fix; the cross products of the
+// equations change sign) and in axes turned by 1e-9 rad (the eigenvectors of a J wrong at 1e-9).
+TEST(RkmkPrincipalAxes, AWrongFrameFailsTheComparison) {
+  const auto& top = skew_top();
+  const State<double> x0 = test::skew_initial_state();
+  const Rkmk4<HeavyTop<Jet1>> jet(top.cast<Jet1>());
+  const double reflected = principal_against_body_frame(
+      MisframedRkmk4<HeavyTop<double>>(top, Vec3<double>(1, 1, -1).asDiagonal()), jet, x0, 0.01, 200);
+  const double turned = principal_against_body_frame(
+      MisframedRkmk4<HeavyTop<double>>(top, so3::exp(Vec3<double>(1e-9, 0, 0))), jet, x0, 0.01, 200);
+  const double right = principal_against_body_frame(
+      MisframedRkmk4<HeavyTop<double>>(top, Mat3<double>::Identity()), jet, x0, 0.01, 200);
+  std::printf("rkmk4 in principal axes against the body frame over 200 steps: reflected axes %.2e, axes turned by "
+              "1e-9 %.2e, the true axes through the same wrapper %.2e\n", reflected, turned, right);
+  EXPECT_GT(reflected, 1e-2);
+  EXPECT_GT(turned, 1e-10);
+  EXPECT_LT(right, 2e-14);  // the bound of StepsEqualTheBodyFrameStepsToRounding
 }
 
 TEST(RkmkPrincipalAxes, AdaptiveStepsAndDenseOutputAgree) {
