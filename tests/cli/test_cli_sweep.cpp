@@ -8,6 +8,7 @@
 #include "lgi_process.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -17,6 +18,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -208,6 +211,54 @@ TEST_F(CliSweep, MemberRowIsTheLastRowOfLgiRun) {
   EXPECT_EQ(rows[2], "1,40,non_finite," + failed[3] + "," + run_rows.back());
   // the steps column: the last good state's time over dt
   EXPECT_NEAR(std::strtod(failed[4].c_str(), nullptr), 0.1 * std::strtod(failed[3].c_str(), nullptr), 1e-9);
+}
+
+// Every problem type `lgi list` names, through a sweep of its scene in scenes/ over two members (t_end of 20 and 40
+// steps) recording status, final state and invariants: the header and every row have the same number of fields,
+// and each row's final columns are `lgi run`'s last row for the member's scene, character for character.
+TEST_F(CliSweep, EveryProblemTypesRowsHaveTheHeadersFieldsAndLgiRunsLastRow) {
+  const CommandResult list = lgi("list");
+  ASSERT_EQ(list.status, 0) << list.err;
+  std::vector<std::string> problems;
+  for (const std::string& line : lines_of(list.out)) {
+    if (line.rfind("methods", 0) == 0) break;
+    if (line.size() > 2 && line.rfind("  ", 0) == 0 && line[2] != ' ')
+      problems.push_back(line.substr(2, line.find(' ', 2) - 2));
+  }
+  ASSERT_GE(problems.size(), 7u) << list.out;
+  std::map<std::string, fs::path> scene_of;  // the first scene of each type, by file name
+  std::vector<fs::path> files(fs::directory_iterator(LGI_SCENES_DIR), fs::directory_iterator{});
+  std::sort(files.begin(), files.end());
+  for (const fs::path& f : files)
+    if (f.extension() == ".json") scene_of.emplace(nlohmann::json::parse(slurp(f))["problem"]["type"], f);
+  for (const std::string& problem : problems) {
+    SCOPED_TRACE(problem);
+    ASSERT_TRUE(scene_of.count(problem)) << "no scene in scenes/ has problem type " << problem;
+    nlohmann::json scene = nlohmann::json::parse(slurp(scene_of[problem]));
+    scene.erase("output");
+    const double dt = scene["integrator"]["dt"];
+    nlohmann::json sweep_file = scene;
+    sweep_file["sweep"] = {{"grid", {{"/t_end", {20 * dt, 40 * dt}}}},
+                           {"record", {"status", "final", "invariants"}}};
+    write("sweep.json", sweep_file.dump());
+    const CommandResult s = sweep("sweep.json", "sweep.csv");
+    ASSERT_EQ(s.status, 0) << s.err;
+    const auto rows = lines_of(read("sweep.csv"));
+    ASSERT_EQ(rows.size(), 3u);
+    const std::size_t fields = split(rows[0], ',').size();
+    for (std::size_t m = 1; m < rows.size(); ++m) {
+      const auto cells = split(rows[m], ',');
+      EXPECT_EQ(cells.size(), fields) << "row " << m << " against the header " << rows[0];
+      nlohmann::json member = scene;
+      member["t_end"] = std::strtod(cells[1].c_str(), nullptr);
+      write("member.json", member.dump());
+      const CommandResult run = lgi("run " + (dir_ / "member.json").string() + " -q");
+      ASSERT_EQ(run.status, 0) << run.err;
+      const std::string expected = cells[0] + "," + cells[1] + "," + cells[2] + "," + cells[3] + "," +
+                                   lines_of(run.out).back() + ",";
+      EXPECT_EQ(rows[m].substr(0, expected.size()), expected) << "header " << rows[0];
+    }
+  }
 }
 
 // In-run records (extrema, a Lyapunov estimate, crossings) do not change a member's trajectory: its status and final
