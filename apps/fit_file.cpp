@@ -136,11 +136,22 @@ std::vector<double> read_bounds(const Node& n, double none) {
   return v;
 }
 
+// An unknown's name, one of fit::block_info's.
+std::string read_unknown_name(const Node& n) {
+  const std::string name = n.string();
+  std::vector<std::string_view> names;
+  for (const fit::BlockInfo& b : fit::block_info) names.push_back(b.name);
+  if (std::find(names.begin(), names.end(), name) == names.end())
+    n.fail("unknown unknown " + quoted_input(name) + did_you_mean(name, names) + " (known: " + fit::known_unknowns() +
+           ")");
+  return name;
+}
+
 fit::Unknown read_unknown(const Node& u) {
-  if (u.value().is_string()) return fit::Unknown(u.string());
+  if (u.value().is_string()) return fit::Unknown(read_unknown_name(u));
   if (!u.is_object()) u.fail("expected a name (\"initial.omega\", ...) or an object with \"name\", got " + describe(u.value()));
   u.allow_only({"name", "fixed", "lower", "upper"}, "an unknown");
-  fit::Unknown out(u.at("name").string());
+  fit::Unknown out(read_unknown_name(u.at("name")));
   if (const auto f = u.find("fixed")) {
     if (!f->is_array()) f->fail("expected an array of component indices (0, 1, 2), got " + describe(f->value()));
     for (std::size_t i = 0; i < f->size(); ++i) out.fixed.push_back(static_cast<int>(f->at(i).integer(0, 2)));
@@ -177,7 +188,10 @@ FitSpec parse_fit_document(const json& document, const std::string& file) {
       else if (name == "none") spec.periodic_options.symmetry = fit::PeriodicSymmetry::none;
       else if (name == "about_k") spec.periodic_options.symmetry = fit::PeriodicSymmetry::about_k;
       else if (name == "body_omega") spec.periodic_options.symmetry = fit::PeriodicSymmetry::body_omega;
-      else s->fail("unknown symmetry \"" + name + "\" (known: automatic, none, about_k, body_omega)");
+      else
+        s->fail("unknown symmetry " + quoted_input(name) +
+                did_you_mean(name, {"automatic", "none", "about_k", "body_omega"}) +
+                " (known: automatic, none, about_k, body_omega)");
     }
     if (fit_node.find("observations")) fit_node.at("observations").fail("a periodic fit takes no observations");
     if (fit_node.find("continuation")) fit_node.at("continuation").fail("continuation is for fits to observations");

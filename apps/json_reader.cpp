@@ -102,6 +102,45 @@ std::string pointer_token(std::string_view key) {
   return out;
 }
 
+std::string closest_name(std::string_view given, const std::vector<std::string_view>& candidates) {
+  const auto lower = [](std::string_view s) {
+    std::string out(s);
+    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return out;
+  };
+  // Optimal string alignment distance (Damerau–Levenshtein without repeated edits of a substring).
+  const auto distance = [](const std::string& a, const std::string& b) {
+    std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+    for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i)
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+          d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    return d[a.size()][b.size()];
+  };
+  if (given.size() > 64) return {};  // not a typo of a name
+  const std::string g = lower(given);
+  const std::size_t limit = given.size() <= 5 ? 1 : 2;
+  std::string best;
+  std::size_t best_distance = limit + 1;
+  for (const std::string_view c : candidates) {
+    const std::size_t d = distance(g, lower(c));
+    if (d < best_distance && 2 * d < std::max(given.size(), c.size())) {
+      best = c;
+      best_distance = d;
+    }
+  }
+  return best;
+}
+
+std::string did_you_mean(std::string_view given, const std::vector<std::string_view>& candidates) {
+  const std::string name = closest_name(given, candidates);
+  return name.empty() ? std::string() : "; did you mean \"" + name + "\"?";
+}
+
 std::string format_number(double x) {
   char buf[64];
   for (int precision = 6; precision <= 17; ++precision) {  // shortest that reads back exactly
@@ -385,8 +424,8 @@ void Node::allow_only(const std::vector<std::string_view>& allowed, std::string_
     std::string list;
     for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
     Node(value, ptr_ + "/" + pointer_token(key), file_)
-        .fail("unknown key" + (owner.empty() ? std::string() : " for " + std::string(owner)) + " (allowed: " + list +
-              ")");
+        .fail("unknown key" + (owner.empty() ? std::string() : " for " + std::string(owner)) +
+              did_you_mean(key, allowed) + " (allowed: " + list + ")");
   }
 }
 

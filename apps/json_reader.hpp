@@ -88,5 +88,13 @@ std::string describe(const json& v);
 std::string quoted_input(std::string_view s);
 // A double formatted with up to 17 significant digits, shortest form that reads back the same.
 std::string format_number(double x);
+// The name among `candidates` that a mistyped `given` most likely meant: one spelled with the same letters in
+// another case, else the nearest in lower case by optimal-string-alignment distance (an insertion, a deletion, a
+// substitution or a transposition of neighbours counts 1) when that distance is at most 1 for `given` of up to 5
+// characters and at most 2 beyond, and less than half the longer name's length ("q" suggests no "c"); the first of
+// equally near names. Empty when none is that near.
+std::string closest_name(std::string_view given, const std::vector<std::string_view>& candidates);
+// "; did you mean \"NAME\"?" for closest_name(given, candidates), or "" when it is empty.
+std::string did_you_mean(std::string_view given, const std::vector<std::string_view>& candidates);
 
 }  // namespace lgi::app

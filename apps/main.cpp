@@ -551,7 +551,9 @@ int main(int argc, char** argv) {
     bool known = false;
     for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == first;
     if (!known && !first.empty() && first[0] != '-')
-      return fail(exit_bad_input, "unknown command \"" + first + "\" (commands: " + commands + "; lgi --help)");
+      return fail(exit_bad_input, "unknown command " + lgi::app::quoted_input(first) +
+                                      lgi::app::did_you_mean(first, {"run", "fit", "sweep", "merge", "list"}) + " (commands: " +
+                                      commands + "; lgi --help)");
     std::string where = "lgi";
     for (const auto* sub : app.get_subcommands()) where += " " + sub->get_name();
     return fail(exit_bad_input, where + ": " + e.what() + " (" + where + " --help)");

@@ -66,8 +66,12 @@ Scene parse_scene(const json& document, const std::string& file) {
   const Node problem = root.at("problem");
   const std::string type = problem.at("type").string();
   const ProblemInfo* info = find_problem(type);
-  if (!info)
-    problem.at("type").fail("unknown problem type " + quoted_input(type) + " (known: " + known_problems() + ")");
+  if (!info) {
+    std::vector<std::string_view> names;
+    for (const ProblemInfo& p : problem_registry()) names.push_back(p.name);
+    problem.at("type").fail("unknown problem type " + quoted_input(type) + did_you_mean(type, names) +
+                            " (known: " + known_problems() + ")");
+  }
   problem.allow_only(info->keys, type);
   scene.problem = info->parse(problem);
 
@@ -90,11 +94,21 @@ Scene parse_scene(const json& document, const std::string& file) {
   const Node integrator = root.at("integrator");
   const std::string method = integrator.at("method").string();
   scene.method = find_method(method);
-  if (!scene.method)
-    integrator.at("method").fail("unknown method " + quoted_input(method) + " (known: " + known_methods() + ")");
-  if (!method_applies(method, type))
-    integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type +
-                                 " (methods that do: " + known_methods(type) + ")");
+  if (!scene.method) {
+    std::vector<std::string_view> names;
+    for (const MethodInfo& m : method_registry()) names.push_back(m.traits.name);
+    const std::string hint = did_you_mean(method, names);
+    integrator.at("method").fail("unknown method " + quoted_input(method) + hint +
+                                 (hint.empty() ? " (known: " + known_methods() + ")"
+                                               : " (`lgi list` shows all " + std::to_string(names.size()) + ")"));
+  }
+  if (!method_applies(method, type)) {
+    std::string types;
+    for (const ProblemInfo& p : problem_registry())
+      if (method_applies(method, p.name)) types += (types.empty() ? "" : ", ") + std::string(p.name);
+    integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type + "; it applies to " +
+                                 types + " (methods that apply to " + type + ": " + known_methods(type) + ")");
+  }
   std::vector<std::string_view> keys = {"method", "dt"};
   // A problem whose state is not on SO(3) runs the method's tableau with fixed steps (problems/euler_angle_methods.hpp).
   const bool takes_options = info->on_group;  // a problem not on SO(3): fixed steps of the tableau, no options

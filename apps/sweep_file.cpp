@@ -241,6 +241,7 @@ Sweep parse_sweep(const json& document, const std::string& file) {
                                       [&](const char* n) { return name == n; });
       if (known == std::end(record_names))
         r.fail("unknown column group " + quoted_input(name) +
+               did_you_mean(name, std::vector<std::string_view>(std::begin(record_names), std::end(record_names))) +
                " (known: status, final, invariants, extrema, lyapunov, crossings)");
       const auto what = static_cast<Record>(known - std::begin(record_names));
       if (s.records(what)) r.fail(quoted_input(name) + " twice");

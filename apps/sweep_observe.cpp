@@ -57,9 +57,16 @@ StateFunction read_state_function(const Node& node, const BodyData& body, const 
     f.kind = StateFunction::Kind::tilt;
     known = true;
   }
-  if (!known)
+  if (!known) {
+    std::vector<std::string> all = {"height", "tilt"};
+    for (const char* v : {"omega", "pi", "gamma"})
+      for (const char i : {'1', '2', '3'}) all.push_back(v + std::string(1, i));
+    for (const char i : {'1', '2', '3'})
+      for (const char j : {'1', '2', '3'}) all.push_back(std::string("R") + i + j);
     node.fail("unknown state function " + quoted_input(name) +
+              did_you_mean(name, std::vector<std::string_view>(all.begin(), all.end())) +
               " (known: R11 ... R33, omega1 ... omega3, pi1 ... pi3, and for tops gamma1 ... gamma3, height, tilt)");
+  }
   if (f.needs_gravity() && !body.has_gravity)
     node.fail(name + " needs a top (a problem with gravity k and centre of mass z0: heavy_top, lagrange_top, "
                      "kovalevskaya_top, lagrange_top_euler_angles), not " + problem_type);

@@ -475,9 +475,11 @@ TEST_F(CliSweep, BadSweepFilesAreRefusedWithoutOutput) {
        "/sweep/random/count: expected an integer from 1 to 10000000, got 0"},
       {R"({"random": {"seed": 1, "count": 5, "ranges": {"/problem/b": [2, 1]}}})", "", "expected lo <= hi"},
       {R"({"grid": {"/problem/b": [1]}, "random": {"seed": 1, "count": 5, "ranges": {}}})", "", "not both"},
-      {R"({"grid": {"/problem/b": [1]}, "record": ["final", "lyapunovv"]})", "", "/sweep/record/1: unknown column group"},
+      {R"({"grid": {"/problem/b": [1]}, "record": ["final", "lyapunovv"]})", "", "/sweep/record/1: unknown column group \"lyapunovv\"; did you mean \"lyapunov\"?"},
       // in-run records
-      {R"({"grid": {"/problem/b": [1]}, "extrema": ["spin"]})", "", "/sweep/extrema/0: unknown state function \"spin\""},
+      {R"({"grid": {"/problem/b": [1]}, "extrema": ["spin"]})", "", "/sweep/extrema/0: unknown state function \"spin\" ("},
+      {R"({"grid": {"/problem/b": [1]}, "extrema": ["Omega3"]})", "",
+       "/sweep/extrema/0: unknown state function \"Omega3\"; did you mean \"omega3\"?"},
       {R"({"grid": {"/problem/b": [1]}, "extrema": ["tilt", "tilt"]})", "", "/sweep/extrema/1: \"tilt\" twice"},
       {R"({"grid": {"/problem/b": [1]}, "extrema": []})", "", "/sweep/extrema: expected a non-empty array"},
       {R"({"grid": {"/problem/b": [1]}, "record": ["status", "extrema"]})", "",

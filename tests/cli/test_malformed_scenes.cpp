@@ -205,7 +205,8 @@ std::vector<Case> cases() {
        "lgi: error: {file}: /problem/mass: unknown key for heavy_top (allowed: type, inertia, b, k, "
        "z0)"},
       {"unknown_initial_key", edit(h, "\"omega\"", "\"Omega\": [0, 0, 1], \"omega\""),
-       "lgi: error: {file}: /initial/Omega: unknown key (allowed: R, omega, euler_angles, euler_rates)"},
+       "lgi: error: {file}: /initial/Omega: unknown key; did you mean \"omega\"? (allowed: R, omega, euler_angles, "
+       "euler_rates)"},
       {"unknown_integrator_key", edit(h, "\"dt\": 0.01", "\"dt\": 0.01, \"order\": 4"),
        "lgi: error: {file}: /integrator/order: unknown key for method lgvi (allowed: method, dt, tolerance, "
        "max_iterations)"},
@@ -219,8 +220,8 @@ std::vector<Case> cases() {
        "tensor)"},
       // messages stay one line of bounded length whatever the input's strings hold
       {"unknown_key_with_newline", edit(h, "\"t_end\"", "\"t\\nend\": 1, \"t_end\""),
-       "lgi: error: {file}: /t\\nend: unknown key (allowed: description, problem, initial, integrator, "
-       "t_end, output, limits)"},
+       "lgi: error: {file}: /t\\nend: unknown key; did you mean \"t_end\"? (allowed: description, problem, initial, "
+       "integrator, t_end, output, limits)"},
       {"unknown_key_very_long", edit(h, "\"t_end\"", std::string("\"").append(100000, 'k') + "\": 1, \"t_end\""),
        "lgi: error: {file}: /kkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkkk...: unknown key (allowed: description, "
        "problem, initial, integrator, t_end, output, limits)"},
@@ -368,12 +369,18 @@ std::vector<Case> cases() {
        "split_dmv_suzuki4, split_dmv_kahan_li6, split_dmv_kahan_li8, split_dmv_sofroniou_spaletta10, "
        "lagrange_split, lagrange_split_yoshida4, lagrange_split_kahan_li6, lagrange_split_kahan_li8, "
        "lagrange_split_sofroniou_spaletta10)"},
+      {"method_in_capitals", edit(h, "\"lgvi\"", "\"LGVI\""),
+       "lgi: error: {file}: /integrator/method: unknown method \"LGVI\"; did you mean \"lgvi\"? (`lgi list` shows "
+       "all 47)"},
+      {"problem_misspelt", edit(h, "\"heavy_top\"", "\"heavytop\""),
+       "lgi: error: {file}: /problem/type: unknown problem type \"heavytop\"; did you mean \"heavy_top\"? (known: "
+       "free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, lagrange_top_euler_angles)"},
       {"unknown_problem", edit(h, "\"heavy_top\"", "\"spinning_plate\""),
        "lgi: error: {file}: /problem/type: unknown problem type \"spinning_plate\" (known: free_body, "
        "heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, lagrange_top_euler_angles)"},
       {"method_not_for_problem", edit(h, "\"lgvi\"", "\"lagrange_split\""),
        "lgi: error: {file}: /integrator/method: method \"lagrange_split\" does not apply to problem "
-       "heavy_top (methods that do: lgvi, rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, "
+       "heavy_top; it applies to lagrange_top (methods that apply to heavy_top: lgvi, rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, "
        "rkmk_dp8, rkmk_vern9, rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, rkmk_vern9_cayley, rk4_quat, "
        "rk4_quat_renorm, rk4_mat, "
        "rk4_mat_renorm, dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, split_axes, split_dmv, split_dmv4, split_dmv6, split_dmv8, "
@@ -381,8 +388,9 @@ std::vector<Case> cases() {
        "lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10, split_dmv_yoshida4, split_dmv_suzuki4, "
        "split_dmv_kahan_li6, split_dmv_kahan_li8, split_dmv_sofroniou_spaletta10)"},
       {"splitting_on_euler_angles", edit(euler_angles, "\"rkmk4\"", "\"lgvi\""),
-       "lgi: error: {file}: /integrator/method: method \"lgvi\" does not apply to problem lagrange_top_euler_angles "
-       "(methods that do: rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk_vern9)"},
+       "lgi: error: {file}: /integrator/method: method \"lgvi\" does not apply to problem lagrange_top_euler_angles; "
+       "it applies to free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential (methods that apply "
+       "to lagrange_top_euler_angles: rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk_vern9)"},
       {"tolerance_on_explicit_method", edit(h, "\"lgvi\"", "\"rkmk4\""),
        "lgi: error: {file}: /integrator/max_iterations: unknown key for method rkmk4 (allowed: method, "
        "dt, projection)"},

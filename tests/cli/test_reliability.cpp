@@ -716,7 +716,8 @@ TEST_F(Reliability, CommandLineErrorsAreOneLine) {
     EXPECT_TRUE(one_line(r.err)) << r.err;
     EXPECT_EQ(r.err.rfind("lgi: error: ", 0), 0u) << r.err;
   }
-  EXPECT_NE(run({"bogus"}).err.find("unknown command \"bogus\""), std::string::npos);
+  EXPECT_NE(run({"bogus"}).err.find("unknown command \"bogus\" (commands:"), std::string::npos);
+  EXPECT_NE(run({"swep"}).err.find("unknown command \"swep\"; did you mean \"sweep\"?"), std::string::npos);
 }
 
 TEST_F(Reliability, NulBytesInInputDoNotCutTheMessage) {

@@ -100,6 +100,40 @@ TEST(JsonReader, PointerTokensAreEscaped) {
   }
 }
 
+// "Did you mean": a name in other case, one edit (insertion, deletion, substitution), two neighbours swapped, or
+// two edits of a longer name → the intended name; a name too far from all, or a one-letter one → nothing.
+TEST(JsonReader, MisspeltNamesSuggestTheClosest) {
+  const std::vector<std::string_view> methods = {"lgvi", "rkmk4", "rkmk_dp5", "rkmk_dp5_cayley", "split_dmv",
+                                                 "split_dmv4", "lagrange_split"};
+  const std::vector<std::string_view> keys = {"method", "dt", "tolerance", "max_iterations", "c", "axis", "tensor"};
+  const struct {
+    const char* given;
+    const std::vector<std::string_view>* names;
+    const char* expected;
+  } cases[] = {
+      {"LGVI", &methods, "lgvi"},                       // case
+      {"Rkmk_DP5", &methods, "rkmk_dp5"},               // case
+      {"lgvl", &methods, "lgvi"},                       // substitution
+      {"rkmk_dp5_caley", &methods, "rkmk_dp5_cayley"},  // deletion
+      {"rkmk44", &methods, "rkmk4"},                    // insertion
+      {"lgiv", &methods, "lgvi"},                       // transposition
+      {"splt_dmv_4", &methods, "split_dmv4"},           // two edits of a longer name
+      {"split_dvm", &methods, "split_dmv"},             // transposition, the nearer of two
+      {"lagrangesplit", &methods, "lagrange_split"},
+      {"dT", &keys, "dt"},
+      {"tolerence", &keys, "tolerance"},
+      {"max_iteration", &keys, "max_iterations"},
+      {"rk45", &methods, ""},  // two edits of a short name: too far
+      {"q", &keys, ""},        // one letter: any other letter would do
+      {"gauss_legendre", &methods, ""},
+      {"", &keys, ""},
+  };
+  for (const auto& c : cases)
+    EXPECT_EQ(app::closest_name(c.given, *c.names), c.expected) << "given \"" << c.given << "\"";
+  EXPECT_EQ(app::did_you_mean("LGVI", methods), "; did you mean \"lgvi\"?");
+  EXPECT_EQ(app::did_you_mean("rk45", methods), "");
+}
+
 TEST(JsonReader, NumbersPrintShortestExact) {
   EXPECT_EQ(format_number(0.1), "0.1");
   EXPECT_EQ(format_number(1.0 / 3), "0.3333333333333333");

@@ -261,6 +261,9 @@ TEST_F(CliFit, BadFitFilesGetOneMessageNamingThePath) {
       {"unknown unknown", R"("unknowns": ["initial.omega", "initial.spin"], "observations": [{"t": 0.5, "R": )" + R_id +
                               R"(, "sigma": 1e-3}])",
        "/fit/unknowns/1", "initial.spin"},
+      {"misspelt unknown", R"("unknowns": [{"name": "initial.omgea"}], "observations": [{"t": 0.5, "R": )" + R_id +
+                               R"(, "sigma": 1e-3}])",
+       "/fit/unknowns/0/name", "unknown unknown \"initial.omgea\"; did you mean \"initial.omega\"?"},
       {"observation after t_end", R"("unknowns": ["initial.omega"], "observations": [{"t": 1.5, "R": )" + R_id +
                                       R"(, "sigma": 1e-3}])",
        "/fit/observations/0/t", "outside [0, 1]"},
