@@ -364,8 +364,18 @@ int run_command(const RunCommandOptions& cmd) {
     case lgi::app::StopReason::none:  // a failed step
       message = "the step from t = " + format_number(s.t) + " failed: " + std::string(lgi::to_string(s.step_status)) +
                 " (step " + std::to_string(s.steps + 1) + " of the run";
-      if (s.step_status == lgi::StepStatus::not_converged)
-        message += "; try a smaller /integrator/dt, or raise /integrator/max_iterations)";
+      if (s.step_status == lgi::StepStatus::not_converged) {
+        // The implicit equation of the LGVI (and of its compositions' substeps) has no solution once h|Ω| passes
+        // about 1 (exactly 1 about a principal axis: docs/findings.md): no iteration limit helps there.
+        const double w = report.final_state.Omega.norm(), hw = scene.dt * w;
+        if (hw > 0.5)
+          message += "; h|omega| = " + format_number(hw) + " at the last good state, where the implicit equation of " +
+                     std::string(scene.method->traits.name) + " may have no solution (none beyond h|omega| = 1 about a principal "
+                     "axis): take /integrator/dt below " + format_number(0.5 / w) +
+                     ", or split_dmv, which takes substeps there)";
+        else
+          message += "; try a smaller /integrator/dt, or raise /integrator/max_iterations)";
+      }
       else if (s.step_status == lgi::StepStatus::non_finite)
         message += "; the solution overflowed or the torque returned NaN; try a smaller /integrator/dt)";
       else if (s.step_status == lgi::StepStatus::step_size_underflow)
