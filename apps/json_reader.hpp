@@ -41,10 +41,22 @@ json parse_json(const std::string& text, const std::string& file);
 // Reads and parses a file; unreadable, oversized and malformed files are InputErrors.
 json read_json_file(const std::string& file);
 
+// A change a reader made to the input to make it exact — a rotation projected onto SO(3), a unit vector or a
+// quaternion normalised: where (the JSON path), what was done, and the size of the defect it removed.
+struct InputAdjustment {
+  std::string where;
+  std::string what;
+  double defect = 0;
+};
+
 // A JSON value with its location, and typed accessors that fail with the location in the message.
 class Node {
  public:
-  Node(const json& value, std::string pointer, const std::string& file) : v_(value), ptr_(std::move(pointer)), file_(file) {}
+  // `adjustments`: where readers record what they changed (adjusted()); null: not recorded. Nodes reached from
+  // this one record to the same place.
+  Node(const json& value, std::string pointer, const std::string& file,
+       std::vector<InputAdjustment>* adjustments = nullptr)
+      : v_(value), ptr_(std::move(pointer)), file_(file), adjustments_(adjustments) {}
 
   const json& value() const { return v_; }
   const std::string& pointer() const { return ptr_; }  // "" for the document root
@@ -72,10 +84,16 @@ class Node {
   Vec3<double> vec3() const;
   Mat3<double> mat3() const;
 
+  // Records that this value was changed by `what`, removing a defect of size `defect` (see the constructor).
+  void adjusted(std::string what, double defect) const {
+    if (adjustments_) adjustments_->push_back({where(), std::move(what), defect});
+  }
+
  private:
   const json& v_;
   std::string ptr_;
   const std::string& file_;
+  std::vector<InputAdjustment>* adjustments_ = nullptr;
 };
 
 // A JSON pointer token with '~' and '/' escaped (RFC 6901), for messages: a key longer than 40 bytes is

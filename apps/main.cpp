@@ -225,6 +225,12 @@ int run_command(const RunCommandOptions& cmd) {
   } catch (const lgi::app::InputError& e) {
     return fail(exit_bad_input, e.what());
   }
+  // Input made exact where it was further off than single precision's rounding: said before the run, also with
+  // -q (the summary lists every change).
+  if (!resuming)
+    for (const lgi::app::InputAdjustment& a : scene.adjustments)
+      if (a.defect > lgi::app::input_warn_defect)
+        std::fprintf(stderr, "lgi: warning: %s: %s: %s\n", cmd.scene_file.c_str(), a.where.c_str(), a.what.c_str());
   const std::string output = resuming && cmd.output.empty() ? resume.output.target : cmd.output;
   const std::string checkpoint = resuming && cmd.checkpoint.empty() ? cmd.resume : cmd.checkpoint;
   if (resuming && lgi::app::is_streamed_path(output))

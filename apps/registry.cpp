@@ -1,5 +1,6 @@
 #include "registry.hpp"
 
+#include <lgi/core/attitude.hpp>
 #include <lgi/core/inertia.hpp>
 #include <lgi/core/so3.hpp>
 
@@ -7,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <utility>
 
@@ -24,11 +26,26 @@ Mat3<double> read_inertia(const Node& node) {
   return 0.5 * (J + J.transpose());  // symmetric to the last bit (accepted within 1e-12)
 }
 
+namespace {
+// Records a defect removed from `node` when it is above input_note_defect.
+void note(const Node& node, const std::string& what, double defect) {
+  if (defect > input_note_defect) node.adjusted(what, defect);
+}
+// A defect for a message: two significant digits.
+std::string short_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g", x);
+  return buf;
+}
+}  // namespace
+
 Vec3<double> read_unit_vector(const Node& node) {
   const Vec3<double> v = node.vec3();
-  const double norm = v.norm();
-  if (!(std::abs(norm - 1) <= 1e-9))
-    node.fail("must be a unit vector (to 1e-9), its length is " + format_number(norm));
+  const double norm = v.norm(), defect = std::abs(norm - 1);
+  if (!(defect <= input_defect_bound))
+    node.fail("must be a unit vector (to " + format_number(input_defect_bound) + "), its length is " +
+              format_number(norm));
+  note(node, std::string("normalised (its length was 1 ") + (norm < 1 ? "- " : "+ ") + short_number(defect) + ")", defect);
   return v / norm;
 }
 
@@ -36,11 +53,29 @@ Mat3<double> read_rotation(const Node& node) {
   const Mat3<double> R = node.mat3();
   const double orth = so3::orthogonality_error(R);
   const double det = R.determinant();
-  if (!(orth <= 1e-9) || !(det > 0))
-    node.fail("must be a rotation matrix (to 1e-9): |R^T R - I| = " + format_number(orth) +
-              ", det R = " + format_number(det));
+  if (!(orth <= input_defect_bound) || !(det > 0))
+    node.fail("must be a rotation matrix (to " + format_number(input_defect_bound) +
+              "): |R^T R - I| = " + format_number(orth) + ", det R = " + format_number(det));
+  note(node, "projected onto SO(3), the nearest rotation (|R^T R - I| was " + short_number(orth) + ")", orth);
   const Eigen::JacobiSVD<Mat3<double>> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
   return svd.matrixU() * svd.matrixV().transpose();  // polar factor: the nearest rotation
+}
+
+Mat3<double> read_quaternion(const Node& node) {
+  if (!node.is_array() || node.size() != 4)
+    node.fail("expected a quaternion [w, x, y, z] (4 numbers, scalar first), got " + describe(node.value()));
+  double q[4];
+  for (std::size_t i = 0; i < 4; ++i) q[i] = node.at(i).number();
+  const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]), defect = std::abs(norm - 1);
+  if (!(defect <= input_defect_bound))
+    node.fail("must be a unit quaternion (to " + format_number(input_defect_bound) + "), its length is " +
+              format_number(norm));
+  note(node, std::string("normalised (its length was 1 ") + (norm < 1 ? "- " : "+ ") + short_number(defect) + ")", defect);
+  // q and −q are the same rotation: the same bits too (w ≥ 0, or the first non-zero component positive).
+  const double* lead = std::find_if(q, q + 4, [](double c) { return c != 0; });
+  if (lead != q + 4 && *lead < 0)
+    for (double& c : q) c = -c;
+  return rotation_from_quaternion(q[0], q[1], q[2], q[3]);
 }
 
 Vec3<double> read_principal_inertia(const Node& node, std::string_view why) {

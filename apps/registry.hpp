@@ -154,10 +154,23 @@ std::string known_problems();
 // "inertia": a symmetric 3×3 array, or [I1, I2, I3] for a diagonal tensor; checked to be physical
 // (core/inertia.hpp, inertia_defect) and returned symmetrised exactly.
 Mat3<double> read_inertia(const Node& node);
-// A unit vector, accepted within 1e-9 and returned normalised exactly.
+//
+// Rotations, unit vectors and quaternions as people have them — typed to 3 or 4 decimals, stored in float32 —
+// are accepted when their defect (‖RᵀR − I‖_F, ||v| − 1|, ||q| − 1|) is at most input_defect_bound, and made
+// exact: the nearest rotation (the polar factor), the vector or quaternion over its length. Rounding every entry
+// of a rotation to d decimals leaves a defect of about 2·10^-d, so 3 decimals pass; a wrong entry (a sign, a
+// swapped digit of the first two decimals) leaves 1e-2 or more and is refused with the value. A defect above
+// input_note_defect is recorded (Node::adjusted: the run's summary lists it), above input_warn_defect it is
+// also a warning (lgi run prints it): more than the rounding of single precision.
+inline constexpr double input_defect_bound = 1e-2;
+inline constexpr double input_note_defect = 1e-12;
+inline constexpr double input_warn_defect = 1e-6;
+// A unit vector (see above), returned normalised.
 Vec3<double> read_unit_vector(const Node& node);
-// A rotation matrix, accepted within 1e-9 (‖RᵀR − I‖_F, det > 0) and returned as the nearest rotation.
+// A rotation matrix (see above; det > 0), returned as the nearest rotation.
 Mat3<double> read_rotation(const Node& node);
+// A quaternion [w, x, y, z] (see above), returned as its rotation (core/attitude.hpp).
+Mat3<double> read_quaternion(const Node& node);
 // A body-frame inertia tensor that must be diagonal (principal axes: the library's tops are written in them);
 // `why` is said when it is not. Returns the principal moments.
 Vec3<double> read_principal_inertia(const Node& node, std::string_view why);

@@ -161,6 +161,8 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
                 euler_angles ? ", Runge-Kutta on the Euler angles" : m.exact_on_group ? ", on SO(3)" : "",
                 format_number(scene.dt).c_str());
   s += buf;
+  // What the readers changed to make the input exact.
+  for (const InputAdjustment& a : scene.adjustments) s += "  input            " + a.where + " " + a.what + "\n";
   // How the run was made, where the scene asked for more than fixed steps.
   if (scene.options.rtol > 0)
     s += "  adaptive         rtol = " + format_number(scene.options.rtol) + ", atol = " +

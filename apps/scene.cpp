@@ -1,5 +1,6 @@
 #include "scene.hpp"
 
+#include <lgi/core/attitude.hpp>
 #include <lgi/core/so3.hpp>
 #include <lgi/integrators/adaptive.hpp>
 #include <lgi/integrators/projection.hpp>
@@ -7,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <numbers>
+#include <optional>
 #include <stdexcept>
 
 namespace lgi::app {
@@ -53,12 +56,63 @@ constexpr OptionReader option_readers[] = {
      }},
 };
 
+// "unit" of an angle: "rad" (the default) or "deg"; returns the factor to radians.
+double read_angle_unit(const std::optional<Node>& unit) {
+  if (!unit) return 1;
+  const std::string u = unit->string();
+  if (u == "rad") return 1;
+  if (u == "deg") return std::numbers::pi / 180;
+  unit->fail("unknown unit " + quoted_input(u) + did_you_mean(u, {"rad", "deg"}) + " (known: rad, deg)");
+}
+
+// "euler_angles": [φ, θ, ψ] (the seed paper's z-x-z, radians) or {"convention": "zxz" | "zyx", "angles": [...],
+// "unit": "rad" | "deg"} (core/attitude.hpp).
+struct EulerAngles {
+  EulerConvention convention = EulerConvention::zxz;
+  Vec3<double> angles;   // radians
+  double to_radians = 1;  // the unit's factor, for the rates
+};
+EulerAngles read_euler_angles(const Node& node) {
+  EulerAngles e;
+  if (node.is_array()) {
+    e.angles = node.vec3();
+    return e;
+  }
+  if (!node.is_object())
+    node.fail("expected [phi, theta, psi] (z-x-z, radians) or an object with convention, angles and unit, got " +
+              describe(node.value()));
+  node.allow_only({"convention", "angles", "unit"}, "euler_angles");
+  const Node c = node.at("convention");
+  const std::string name = c.string();
+  if (name == "zxz")
+    e.convention = EulerConvention::zxz;
+  else if (name == "zyx")
+    e.convention = EulerConvention::zyx;
+  else
+    c.fail("unknown convention " + quoted_input(name) + did_you_mean(name, {"zxz", "zyx"}) +
+           " (known: zxz, the seed paper's (phi, theta, psi); zyx, (yaw, pitch, roll))");
+  e.to_radians = read_angle_unit(node.find("unit"));
+  e.angles = node.at("angles").vec3() * e.to_radians;
+  return e;
+}
+
+// "axis_angle": {"axis": [x, y, z] (any length but 0), "angle": θ, "unit": "rad" | "deg"}.
+Mat3<double> read_axis_angle(const Node& node) {
+  if (!node.is_object()) node.fail("expected {\"axis\": [x, y, z], \"angle\": ...}, got " + describe(node.value()));
+  node.allow_only({"axis", "angle", "unit"}, "axis_angle");
+  const Node axis_node = node.at("axis");
+  const Vec3<double> axis = axis_node.vec3();
+  if (!(axis.norm() > 0)) axis_node.fail("must not be zero");
+  const double angle = node.at("angle").number() * read_angle_unit(node.find("unit"));
+  return rotation_from_axis_angle(axis, angle);
+}
+
 }  // namespace
 
 Scene parse_scene(const json& document, const std::string& file) {
   Scene scene;
   scene.file = file;
-  const Node root(document, "", file);
+  const Node root(document, "", file, &scene.adjustments);
   root.allow_only({"description", "problem", "initial", "integrator", "t_end", "output", "limits"});
   if (auto d = root.find("description")) (void)d->string();
 
@@ -75,19 +129,36 @@ Scene parse_scene(const json& document, const std::string& file) {
   problem.allow_only(info->keys, type);
   scene.problem = info->parse(problem);
 
-  // initial
+  // initial: the attitude in one of four forms (none: R = I), the angular velocity as omega or Euler-angle rates
+  // (core/attitude.hpp; docs/scenes.md).
   const Node initial = root.at("initial");
-  initial.allow_only({"R", "omega", "euler_angles", "euler_rates"});
-  if (initial.find("euler_angles") || initial.find("euler_rates")) {
-    // The seed paper's Euler angles (φ, θ, ψ) and their rates, in place of R and omega: R by its eq. (6.3).
-    if (initial.find("R") || initial.find("omega"))
-      initial.fail("give either R and omega, or euler_angles and euler_rates, not both");
-    const Vec3<double> a = initial.at("euler_angles").vec3(), r = initial.at("euler_rates").vec3();
-    scene.initial.R = rotation_from_euler_angles(a[0], a[1], a[2]);
-    scene.initial.Omega = body_rate_from_euler_rates(a[1], a[2], r[0], r[1], r[2]);
+  initial.allow_only({"R", "quaternion", "axis_angle", "euler_angles", "omega", "euler_rates"});
+  std::string forms;
+  for (const char* key : {"R", "quaternion", "axis_angle", "euler_angles"})
+    if (initial.find(key)) forms += (forms.empty() ? "" : ", ") + std::string(key);
+  if (forms.find(',') != std::string::npos)
+    initial.fail("give the attitude once, as R, quaternion, axis_angle or euler_angles (got " + forms + ")");
+  std::optional<EulerAngles> euler;
+  if (const auto R = initial.find("R")) {
+    scene.initial.R = read_rotation(*R);
+  } else if (const auto q = initial.find("quaternion")) {
+    scene.initial.R = read_quaternion(*q);
+  } else if (const auto a = initial.find("axis_angle")) {
+    scene.initial.R = read_axis_angle(*a);
+  } else if (const auto e = initial.find("euler_angles")) {
+    euler = read_euler_angles(*e);
+    scene.initial.R = rotation_from_euler(euler->convention, euler->angles);
+  }
+  const auto omega = initial.find("omega"), rates = initial.find("euler_rates");
+  if (omega && rates) initial.fail("give the angular velocity once, as omega or euler_rates (not both)");
+  if (rates) {
+    if (!euler) rates->fail("euler_rates need euler_angles (their convention and unit)");
+    scene.initial.Omega = body_rate_from_euler(euler->convention, euler->angles, Vec3<double>(rates->vec3() * euler->to_radians));
+  } else if (omega) {
+    scene.initial.Omega = omega->vec3();
   } else {
-    if (auto R = initial.find("R")) scene.initial.R = read_rotation(*R);
-    scene.initial.Omega = initial.at("omega").vec3();
+    initial.fail("missing the angular velocity: omega (body frame, rad per time unit), or euler_rates with "
+                 "euler_angles");
   }
 
   // integrator

@@ -39,6 +39,9 @@ struct Scene {
   // starts counting again); 0: no limit.
   std::int64_t max_steps = 0;
   double max_wall_seconds = 0;
+  // What the readers changed to make the input exact (a rotation projected, a unit vector normalised), each
+  // above input_note_defect (registry.hpp).
+  std::vector<InputAdjustment> adjustments;
 };
 
 // The largest number of steps a scene may ask for (t_end / dt).

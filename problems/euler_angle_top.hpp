@@ -39,6 +39,7 @@
 /// drivers of integrators/euclidean_rk.hpp then stop and report the time (docs/seed_paper.md).
 #pragma once
 
+#include "../core/attitude.hpp"
 #include "../core/scalar.hpp"
 #include "../core/state.hpp"
 #include "heavy_top.hpp"
@@ -49,27 +50,7 @@
 
 namespace lgi {
 
-/// R = Rz(φ) Rx(θ) Rz(ψ), the paper's eq. (6.3).
-template <class T>
-Mat3<T> rotation_from_euler_angles(const T& phi, const T& theta, const T& psi) {
-  using std::cos;
-  using std::sin;
-  const T cf = cos(phi), sf = sin(phi), ct = cos(theta), st = sin(theta), cp = cos(psi), sp = sin(psi);
-  Mat3<T> R;
-  R << cp * cf - sp * ct * sf, -sp * cf - cp * ct * sf, st * sf,  //
-      cp * sf + sp * ct * cf, -sp * sf + cp * ct * cf, -st * cf,   //
-      sp * st, cp * st, ct;
-  return R;
-}
-
-/// Ω (body frame) of (6.3) for the angle rates (φ', θ', ψ').
-template <class T>
-Vec3<T> body_rate_from_euler_rates(const T& theta, const T& psi, const T& dphi, const T& dtheta, const T& dpsi) {
-  using std::cos;
-  using std::sin;
-  const T st = sin(theta), ct = cos(theta), sp = sin(psi), cp = cos(psi);
-  return Vec3<T>(dphi * st * sp + dtheta * cp, dphi * st * cp - dtheta * sp, dphi * ct + dpsi);
-}
+// rotation_from_euler_angles and body_rate_from_euler_rates, eq. (6.3): core/attitude.hpp.
 
 /// (φ, θ, ψ) of a rotation, inverting (6.3): θ ∈ [0, π], φ, ψ ∈ (−π, π] (atan2; at sin θ = 0 only φ ± ψ
 /// is defined and the split returned is arbitrary).

@@ -66,7 +66,7 @@ std::vector<BadScene> bad_scenes() {
        "/", "missing key \"integrator\""},
       {"missing_dt", std::string(SceneText{.integrator = R"("integrator": {"method": "lgvi"})"}), "/integrator",
        "missing key \"dt\""},
-      {"missing_omega", std::string(SceneText{.initial = R"("initial": {})"}), "/initial", "missing key \"omega\""},
+      {"missing_omega", std::string(SceneText{.initial = R"("initial": {})"}), "/initial", "missing the angular velocity"},
       {"missing_inertia", std::string(SceneText{.problem = heavy(R"("b": 1)")}), "/problem", "missing key \"inertia\""},
       {"missing_b", std::string(SceneText{.problem = heavy(kI)}), "/problem", "missing key \"b\""},
       {"unknown_top_key", std::string(SceneText{.rest = R"("t_end": 1, "speed": 2)"}), "/speed", "unknown key"},
@@ -108,7 +108,7 @@ std::vector<BadScene> bad_scenes() {
       {"b_negative", std::string(SceneText{.problem = heavy(kI + R"(, "b": -1)")}), "/problem/b", "must be >= 0"},
       {"k_not_unit", std::string(SceneText{.problem = heavy(kI + R"(, "b": 1, "k": [0, 0, 2])")}), "/problem/k",
        "must be a unit vector"},
-      {"z0_not_unit", std::string(SceneText{.problem = heavy(kI + R"(, "b": 1, "z0": [0.1, 0, 1])")}), "/problem/z0",
+      {"z0_not_unit", std::string(SceneText{.problem = heavy(kI + R"(, "b": 1, "z0": [0.2, 0, 1])")}), "/problem/z0",
        "must be a unit vector"},
       {"z0_zero", std::string(SceneText{.problem = heavy(kI + R"(, "b": 1, "z0": [0, 0, 0])")}), "/problem/z0",
        "must be a unit vector"},
@@ -335,6 +335,95 @@ TEST_F(Cli, SummarySaysAdaptiveAndProjected) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("adaptive         rtol = 1e-09, atol = 1e-10"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("projected"), std::string::npos) << r.err;
+}
+
+// Every attitude form — a quaternion of either sign, axis and angle (the axis of any length), z-x-z and z-y-x Euler
+// angles in radians and degrees, with omega or with Euler-angle rates — gives the first row of the equivalent R and
+// omega, to the rounding of the conversions (R = Rx(30°), Ω = (5, 0.2, 0.1): the rates below are chosen so).
+TEST_F(Cli, EveryAttitudeFormGivesTheRowOfTheEquivalentR) {
+  const double pi = 3.14159265358979323846, c = std::cos(pi / 6), s = std::sin(pi / 6);
+  const auto first_row = [&](const std::string& initial) {
+    const fs::path file = write("form.json", std::string(SceneText{.initial = R"("initial": )" + initial,
+                                                                   .rest = R"("t_end": 0.01)"}));
+    const Result r = lgi("run -q " + file.string());
+    EXPECT_EQ(r.status, 0) << initial << "\n" << r.err;
+    const Csv csv = parse_csv(r.out);
+    return csv.rows.empty() ? std::vector<double>() : csv.rows.front();
+  };
+  char R[160];
+  std::snprintf(R, sizeof R, "[[1, 0, 0], [0, %.17g, %.17g], [0, %.17g, %.17g]]", c, -s, s, c);
+  const std::vector<double> expected = first_row(std::string(R"({"R": )") + R + R"(, "omega": [5, 0.2, 0.1]})");
+  ASSERT_FALSE(expected.empty());
+  char q[200], q_neg[200];
+  std::snprintf(q, sizeof q, R"({"quaternion": [%.17g, %.17g, 0, 0], "omega": [5, 0.2, 0.1]})", std::cos(pi / 12),
+                std::sin(pi / 12));
+  std::snprintf(q_neg, sizeof q_neg, R"({"quaternion": [%.17g, %.17g, 0, 0], "omega": [5, 0.2, 0.1]})",
+                -std::cos(pi / 12), -std::sin(pi / 12));
+  // z-x-z (φ, θ, ψ) = (0, 30°, 0): Ω = φ'(0, sinθ, cosθ) + θ'(1, 0, 0) + ψ'(0, 0, 1) → θ' = 5, φ' = 0.4, ψ' = 0.1 − 0.4 cosθ.
+  // z-y-x (ψ, θ, φ) = (0, 0, 30°): Ω = (φ', θ' cosφ, −θ' sinφ) + ψ'(0, sinφ, cosφ) → φ' = 5, and θ', ψ' from
+  // (0.2, 0.1) turned by −φ: θ' = 0.2 c − 0.1 s, ψ' = 0.2 s + 0.1 c.
+  const double deg = 180 / pi;
+  char axis_long[160];
+  std::snprintf(axis_long, sizeof axis_long, R"({"axis_angle": {"axis": [2.5, 0, 0], "angle": %.17g}, "omega": [5, 0.2, 0.1]})",
+                pi / 6);
+  char zxz_rad[200], zxz_deg[200], zyx_rad[200], zyx_deg[200];
+  std::snprintf(zxz_rad, sizeof zxz_rad, R"({"euler_angles": [0, %.17g, 0], "euler_rates": [0.4, 5, %.17g]})", pi / 6,
+                0.1 - 0.4 * c);
+  std::snprintf(zxz_deg, sizeof zxz_deg,
+                R"({"euler_angles": {"convention": "zxz", "angles": [0, 30, 0], "unit": "deg"}, )"
+                R"("euler_rates": [%.17g, %.17g, %.17g]})",
+                0.4 * deg, 5 * deg, (0.1 - 0.4 * c) * deg);
+  std::snprintf(zyx_rad, sizeof zyx_rad,
+                R"({"euler_angles": {"convention": "zyx", "angles": [0, 0, %.17g]}, "euler_rates": [%.17g, %.17g, 5]})",
+                pi / 6, 0.2 * s + 0.1 * c, 0.2 * c - 0.1 * s);
+  std::snprintf(zyx_deg, sizeof zyx_deg,
+                R"({"euler_angles": {"convention": "zyx", "angles": [0, 0, 30], "unit": "deg"}, "omega": [5, 0.2, 0.1]})");
+  const std::vector<std::string> forms = {
+      q, q_neg,
+      R"({"axis_angle": {"axis": [1, 0, 0], "angle": 30, "unit": "deg"}, "omega": [5, 0.2, 0.1]})",
+      axis_long,
+      zxz_rad, zxz_deg, zyx_rad, zyx_deg,
+  };
+  for (const std::string& form : forms) {
+    const std::vector<double> row = first_row(form);
+    ASSERT_EQ(row.size(), expected.size()) << form;
+    double worst = 0;
+    for (std::size_t i = 0; i < row.size(); ++i) worst = std::max(worst, std::abs(row[i] - expected[i]));
+    std::printf("%-110s first row within %.1e of R's\n", form.substr(0, 110).c_str(), worst);
+    EXPECT_LE(worst, 4e-15) << form;  // a few ulps of the O(1)..O(10) entries (the energy is ≈ 13)
+  }
+}
+
+// Attitudes typed or stored to a few decimals are made exact and said so; beyond the bound they are refused.
+TEST_F(Cli, RoundedAttitudesAreProjectedAndReported) {
+  const auto run = [&](const std::string& initial, const std::string& output = "rounded.csv") {
+    const fs::path file = write("rounded.json", std::string(SceneText{.initial = R"("initial": )" + initial,
+                                                                      .rest = R"("t_end": 0.01)"}));
+    return lgi("run -o " + (dir_ / output).string() + " " + file.string());
+  };
+  // 30° about x to 4 decimals: |RᵀR − I| = 6.2e-5.
+  const Result four = run(R"({"R": [[1, 0, 0], [0, 0.866, -0.5], [0, 0.5, 0.866]], "omega": [5, 0.2, 0.1]})");
+  ASSERT_EQ(four.status, 0) << four.err;
+  EXPECT_NE(four.err.find("lgi: warning: "), std::string::npos) << four.err;
+  EXPECT_NE(four.err.find("/initial/R: projected onto SO(3), the nearest rotation (|R^T R - I| was 6.2e-05)"),
+            std::string::npos) << four.err;
+  EXPECT_NE(four.err.find("  input            /initial/R projected onto SO(3)"), std::string::npos) << four.err;
+  // A float32 quaternion: normalised, below the warning's threshold, in the summary only.
+  const Result f32 = run(R"({"quaternion": [0.9659258, 0.25881904, 0, 0], "omega": [5, 0.2, 0.1]})");
+  ASSERT_EQ(f32.status, 0) << f32.err;
+  EXPECT_EQ(f32.err.find("lgi: warning: "), std::string::npos) << f32.err;
+  EXPECT_NE(f32.err.find("  input            /initial/quaternion normalised (its length was 1 "), std::string::npos)
+      << f32.err;
+  // Exact input: nothing to say.
+  const Result exact = run(R"({"R": [[1, 0, 0], [0, 0.6, -0.8], [0, 0.8, 0.6]], "omega": [5, 0.2, 0.1]})");
+  ASSERT_EQ(exact.status, 0) << exact.err;
+  EXPECT_EQ(exact.err.find("input "), std::string::npos) << exact.err;
+  // To one decimal: |RᵀR − I| = 0.085, refused with its value, nothing written.
+  const Result one = run(R"({"R": [[1, 0, 0], [0, 0.9, -0.5], [0, 0.5, 0.9]], "omega": [5, 0.2, 0.1]})", "refused.csv");
+  EXPECT_EQ(one.status, 1);
+  EXPECT_NE(one.err.find("/initial/R: must be a rotation matrix (to 0.01): |R^T R - I| = 0.0848"), std::string::npos)
+      << one.err;
+  EXPECT_FALSE(fs::exists(dir_ / "refused.csv"));
 }
 
 TEST_F(Cli, FailedIntegrationExitsTwoAndKeepsTheLastGoodState) {
