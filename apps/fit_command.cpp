@@ -154,6 +154,8 @@ std::string brief(const FitSpec& spec, const fit::FitResult<P>& r, const std::st
                   file.c_str(), std::string(P::name).c_str(), std::string(spec.scene.method->traits.name).c_str(),
                   spec.scene.dt, spec.observations.size(), r.residuals, free);
   s += buf;
+  for (const auto* list : {&spec.scene.adjustments, &spec.adjustments})
+    for (const InputAdjustment& a : *list) s += "  input            " + a.where + " " + a.what + "\n";
   const std::string stages = spec.options.continuation.empty() || spec.periodic
                                  ? std::string()
                                  : " (" + std::to_string(spec.options.continuation.size()) +
@@ -227,6 +229,12 @@ int fit_command(const FitCommandOptions& options) {
   } catch (const InputError& e) {
     return fail(exit_bad_input, e.what());
   }
+  // Input made exact where it was further off than single precision's rounding: said before the fit, also with
+  // -q (the report lists every change).
+  for (const auto* list : {&spec.scene.adjustments, &spec.adjustments})
+    for (const InputAdjustment& a : *list)
+      if (a.defect > input_warn_defect)
+        std::fprintf(stderr, "lgi: warning: %s: %s: %s\n", file.c_str(), a.where.c_str(), a.what.c_str());
   const std::string method(spec.scene.method->traits.name);
   if (method != "lgvi" && method != "rkmk4")
     return fail(exit_bad_input, file + ": /integrator/method: lgi fit offers the methods " + std::string(fit_methods) +

@@ -1,6 +1,8 @@
 // lgi/apps/fit_file.cpp — reading fit files and observation tables (fit_file.hpp).
 #include "fit_file.hpp"
 
+#include <lgi/core/so3.hpp>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -88,6 +90,41 @@ void read_csv(const std::string& path, std::vector<std::string>& header, std::ve
   parse_observation_csv(text.str(), path, header, rows, lines);
 }
 
+// A table's attitudes (R11..R33, when it has them all) made exact as in scenes: each within input_defect_bound of a
+// rotation replaced by the nearest one, one adjustment for the file; beyond the bound a CsvError naming the line.
+void make_attitudes_exact(const std::string& path, const std::vector<std::string>& header,
+                          std::vector<std::vector<double>>& rows, const std::vector<int>& lines,
+                          std::vector<InputAdjustment>& adjustments) {
+  static constexpr std::string_view names[9] = {"R11", "R12", "R13", "R21", "R22", "R23", "R31", "R32", "R33"};
+  std::size_t column[9];
+  for (int e = 0; e < 9; ++e) {
+    column[e] = static_cast<std::size_t>(std::find(header.begin(), header.end(), names[e]) - header.begin());
+    if (column[e] == header.size()) return;  // observations_from_table names what is missing
+  }
+  std::size_t projected = 0;
+  double largest = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i].size() != header.size()) continue;  // observations_from_table names the row
+    Mat3<double> R;
+    for (int e = 0; e < 9; ++e) R(e / 3, e % 3) = rows[i][column[e]];
+    const double defect = so3::orthogonality_error(R);
+    if (!(defect <= input_defect_bound) || !(R.determinant() > 0))
+      throw CsvError(path + ":" + std::to_string(lines[i]) + ": columns R11..R33: not a rotation matrix (to " +
+                     format_number(input_defect_bound) + "): |R^T R - I| = " + format_number(defect) +
+                     ", det R = " + format_number(R.determinant()));
+    if (defect <= input_note_defect) continue;
+    const Mat3<double> exact = nearest_rotation(R);
+    for (int e = 0; e < 9; ++e) rows[i][column[e]] = exact(e / 3, e % 3);
+    ++projected;
+    largest = std::max(largest, defect);
+  }
+  if (projected > 0)
+    adjustments.push_back({path, std::to_string(projected) + " of " + std::to_string(rows.size()) +
+                                     " attitudes projected onto SO(3), the nearest rotations (largest |R^T R - I| " +
+                                     format_defect(largest) + ")",
+                           largest});
+}
+
 fit::Observation read_observation(const Node& o) {
   o.allow_only({"t", "R", "q", "omega", "axis", "direction", "sigma", "loss", "loss_scale"}, "an observation");
   const double t = o.at("t").number();
@@ -97,19 +134,35 @@ fit::Observation read_observation(const Node& o) {
   if (R + q + w + a != 1)
     o.fail("an observation gives exactly one of \"R\", \"q\", \"omega\", or \"axis\" with \"direction\"");
   fit::Observation obs;
+  // Rounded attitudes, quaternions and unit vectors are made exact as in scenes (read_rotation, read_unit_vector);
+  // values exact to 1e-12 go to the library as given.
   if (R) {
-    obs = fit::Observation::attitude(t, o.at("R").mat3(), sigma);
+    const Node Rn = o.at("R");
+    const Mat3<double> given = Rn.mat3();
+    obs = fit::Observation::attitude(
+        t, so3::orthogonality_error(given) <= input_note_defect && given.determinant() > 0 ? given : read_rotation(Rn),
+        sigma);
   } else if (q) {
     const Node qn = o.at("q");
     if (!qn.is_array() || qn.size() != 4) qn.fail("expected an array of 4 numbers (w, x, y, z), got " + describe(qn.value()));
     Eigen::Vector4d v;
     for (std::size_t i = 0; i < 4; ++i) v(static_cast<int>(i)) = qn.at(i).number();
     if (v.norm() == 0) qn.fail("the zero quaternion is not a rotation");
+    const double defect = std::abs(v.norm() - 1);
+    if (!(defect <= input_defect_bound))
+      qn.fail("must be a unit quaternion (to " + format_number(input_defect_bound) + "), its length is " +
+              format_number(v.norm()));
+    if (defect > input_note_defect) {
+      qn.adjusted(std::string("normalised (its length was 1 ") + (v.norm() < 1 ? "- " : "+ ") +
+                      format_defect(defect) + ")",
+                  defect);
+      v.normalize();
+    }
     obs = fit::Observation::attitude_quaternion(t, v, sigma);
   } else if (w) {
     obs = fit::Observation::angular_velocity(t, o.at("omega").vec3(), sigma);
   } else {
-    obs = fit::Observation::body_axis(t, o.at("axis").vec3(), o.at("direction").vec3(), sigma);
+    obs = fit::Observation::body_axis(t, read_unit_vector(o.at("axis")), read_unit_vector(o.at("direction")), sigma);
   }
   if (const auto loss = o.find("loss")) {
     try {
@@ -165,12 +218,12 @@ fit::Unknown read_unknown(const Node& u) {
 }  // namespace
 
 FitSpec parse_fit_document(const json& document, const std::string& file) {
-  const Node root(document, "", file);
+  FitSpec spec;
+  const Node root(document, "", file, &spec.adjustments);
   if (!root.is_object()) root.fail("expected an object (a scene with a \"fit\" section), got " + describe(document));
   const Node fit_node = root.at("fit");
   fit_node.allow_only({"unknowns", "observations", "continuation", "periodic", "solver", "covariance"}, "the fit section");
 
-  FitSpec spec;
   // Periodic orbits need no t_end: it defaults to the period guess.
   const auto periodic = fit_node.find("periodic");
   if (periodic) {
@@ -234,6 +287,7 @@ FitSpec parse_fit_document(const json& document, const std::string& file) {
       std::vector<std::vector<double>> rows;
       std::vector<int> lines;
       read_csv(csv.string(), header, rows, lines);
+      if (table.sigma_attitude > 0) make_attitudes_exact(csv.string(), header, rows, lines, spec.adjustments);
       table.field = obs.where();
       try {
         spec.observations = fit::observations_from_table(header, rows, table);

@@ -25,6 +25,10 @@ struct FitSpec {
   bool periodic = false;
   fit::PeriodicOptions periodic_options;
   double period = 0, phase = 0;
+  // What the readers changed to make the observations exact (registry.hpp, input_defect_bound): inline attitudes,
+  // quaternions and unit vectors one by one, a table's attitudes as one line per file. The scene's own are in
+  // scene.adjustments.
+  std::vector<InputAdjustment> adjustments;
 };
 
 // Thrown for bad CSV input (already "file:line: message").

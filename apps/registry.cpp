@@ -31,13 +31,14 @@ namespace {
 void note(const Node& node, const std::string& what, double defect) {
   if (defect > input_note_defect) node.adjusted(what, defect);
 }
-// A defect for a message: two significant digits.
-std::string short_number(double x) {
+
+}  // namespace
+
+std::string format_defect(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.2g", x);
   return buf;
 }
-}  // namespace
 
 Vec3<double> read_unit_vector(const Node& node) {
   const Vec3<double> v = node.vec3();
@@ -45,7 +46,7 @@ Vec3<double> read_unit_vector(const Node& node) {
   if (!(defect <= input_defect_bound))
     node.fail("must be a unit vector (to " + format_number(input_defect_bound) + "), its length is " +
               format_number(norm));
-  note(node, std::string("normalised (its length was 1 ") + (norm < 1 ? "- " : "+ ") + short_number(defect) + ")", defect);
+  note(node, std::string("normalised (its length was 1 ") + (norm < 1 ? "- " : "+ ") + format_defect(defect) + ")", defect);
   return v / norm;
 }
 
@@ -56,9 +57,13 @@ Mat3<double> read_rotation(const Node& node) {
   if (!(orth <= input_defect_bound) || !(det > 0))
     node.fail("must be a rotation matrix (to " + format_number(input_defect_bound) +
               "): |R^T R - I| = " + format_number(orth) + ", det R = " + format_number(det));
-  note(node, "projected onto SO(3), the nearest rotation (|R^T R - I| was " + short_number(orth) + ")", orth);
-  const Eigen::JacobiSVD<Mat3<double>> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  return svd.matrixU() * svd.matrixV().transpose();  // polar factor: the nearest rotation
+  note(node, "projected onto SO(3), the nearest rotation (|R^T R - I| was " + format_defect(orth) + ")", orth);
+  return nearest_rotation(R);
+}
+
+Mat3<double> nearest_rotation(const Mat3<double>& M) {
+  const Eigen::JacobiSVD<Mat3<double>> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  return svd.matrixU() * svd.matrixV().transpose();
 }
 
 Mat3<double> read_quaternion(const Node& node) {
@@ -70,7 +75,7 @@ Mat3<double> read_quaternion(const Node& node) {
   if (!(defect <= input_defect_bound))
     node.fail("must be a unit quaternion (to " + format_number(input_defect_bound) + "), its length is " +
               format_number(norm));
-  note(node, std::string("normalised (its length was 1 ") + (norm < 1 ? "- " : "+ ") + short_number(defect) + ")", defect);
+  note(node, std::string("normalised (its length was 1 ") + (norm < 1 ? "- " : "+ ") + format_defect(defect) + ")", defect);
   // q and −q are the same rotation: the same bits too (w ≥ 0, or the first non-zero component positive).
   const double* lead = std::find_if(q, q + 4, [](double c) { return c != 0; });
   if (lead != q + 4 && *lead < 0)

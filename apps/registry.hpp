@@ -165,6 +165,10 @@ Mat3<double> read_inertia(const Node& node);
 inline constexpr double input_defect_bound = 1e-2;
 inline constexpr double input_note_defect = 1e-12;
 inline constexpr double input_warn_defect = 1e-6;
+// The rotation nearest to M in the Frobenius norm: U Vᵀ of M's SVD (the polar factor; det M > 0).
+Mat3<double> nearest_rotation(const Mat3<double>& M);
+// A defect for a message: two significant digits ("6.2e-05").
+std::string format_defect(double x);
 // A unit vector (see above), returned normalised.
 Vec3<double> read_unit_vector(const Node& node);
 // A rotation matrix (see above; det > 0), returned as the nearest rotation.

@@ -118,6 +118,76 @@ TEST_F(CliFit, RecoversOmega0FromTheAttitudesLgiRunWrote) {
 
 // R0, Ω0 and two principal moments (I3 held: the data fix only ratios) of a free body from inline
 // attitude and gyro observations and the same data as a CSV table.
+// Observations as they come: `lgi run`'s attitudes rounded to 6 decimals (|RᵀR − I| up to 2e-6), and the same
+// attitudes as float32 quaternions (|q| − 1 up to 6e-8), are made exact, said so, and fit: Ω0 within the fit's
+// own σ of the estimate from the exact observations (σ = 1e-6 rad).
+TEST_F(CliFit, RoundedObservationsAreMadeExactAndFitWithinTheirSigma) {
+  const lgi::State<double> truth = lgi::test::skew_initial_state();
+  write("truth.json", truth_scene(skew_top_problem(), truth, "lgvi", 0.01, 10, 20));
+  const Result run = lgi("run " + (dir_ / "truth.json").string() + " -q -o " + (dir_ / "exact.csv").string());
+  ASSERT_EQ(run.status, 0) << run.err;
+  lgi::State<double> guess = truth;
+  guess.Omega *= 1.1;
+  const std::string scene = truth_scene(skew_top_problem(), guess, "lgvi", 0.01, 10, 20);
+  const auto fit = [&](const std::string& observations, double& sigma_max, std::string& err) {
+    write("fit.json", scene.substr(0, scene.size() - 1) + R"(, "fit": {"unknowns": ["initial.omega"], "observations": )" +
+                          observations + "}}");
+    const Result r = lgi("fit " + (dir_ / "fit.json").string() + " -o " + (dir_ / "result.json").string());
+    EXPECT_EQ(r.status, 0) << r.err;
+    err = r.err;
+    const json res = json::parse(slurp(dir_ / "result.json"));
+    sigma_max = 0;
+    for (int k = 0; k < 3; ++k) sigma_max = std::max(sigma_max, res.at("sigma").at("initial").at("omega").at(k).get<double>());
+    return vec_of(res.at("initial").at("omega"));
+  };
+  double sigma = 0;
+  std::string err;
+  const lgi::Vec3<double> exact = fit(R"({"csv": "exact.csv", "sigma_attitude": 1e-6})", sigma, err);
+  EXPECT_EQ(err.find("input "), std::string::npos) << err;
+
+  // The table rounded to 6 decimals.
+  std::istringstream in(slurp(dir_ / "exact.csv"));
+  std::string line, rounded, inline_q;
+  std::getline(in, line);
+  rounded = line + "\n";
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    std::istringstream cells(line);
+    for (std::string c; std::getline(cells, c, ',');) v.push_back(std::strtod(c.c_str(), nullptr));
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, i == 0 ? "%.17g" : "%.6f", v[i]);
+      rounded += (i ? "," : "") + std::string(buf);
+    }
+    rounded += "\n";
+    // The row's attitude as a float32 quaternion, inline.
+    lgi::Mat3<double> R;
+    for (int e = 0; e < 9; ++e) R(e / 3, e % 3) = v[static_cast<std::size_t>(1 + e)];
+    const Eigen::Quaterniond q(R);
+    char obs[200];
+    std::snprintf(obs, sizeof obs, R"(%s{"t": %.17g, "q": [%.9g, %.9g, %.9g, %.9g], "sigma": 1e-6})",
+                  inline_q.empty() ? "" : ", ", v[0], static_cast<double>(static_cast<float>(q.w())),
+                  static_cast<double>(static_cast<float>(q.x())), static_cast<double>(static_cast<float>(q.y())),
+                  static_cast<double>(static_cast<float>(q.z())));
+    inline_q += obs;
+  }
+  std::ofstream(dir_ / "rounded.csv") << rounded;
+  double sigma6 = 0;
+  const lgi::Vec3<double> six = fit(R"({"csv": "rounded.csv", "sigma_attitude": 1e-6})", sigma6, err);
+  EXPECT_NE(err.find("lgi: warning: "), std::string::npos) << err;
+  EXPECT_NE(err.find("  input            " + (dir_ / "rounded.csv").string() + " 51 of 51 attitudes projected onto SO(3)"),
+            std::string::npos) << err;
+  double sigma32 = 0;
+  const lgi::Vec3<double> f32 = fit("[" + inline_q + "]", sigma32, err);
+  EXPECT_EQ(err.find("lgi: warning: "), std::string::npos) << err;  // float32 rounding: below the warning's 1e-6
+  EXPECT_NE(err.find("  input            /fit/observations/1/q normalised (its length was 1 "), std::string::npos) << err;
+  const double d6 = (six - exact).cwiseAbs().maxCoeff(), d32 = (f32 - exact).cwiseAbs().maxCoeff();
+  std::printf("Omega0 from rounded observations against the exact ones: 6 decimals %.2e, float32 quaternions %.2e "
+              "(the fits' sigma %.2e, %.2e)\n", d6, d32, sigma6, sigma32);
+  EXPECT_LT(d6, sigma6);
+  EXPECT_LT(d32, sigma32);
+}
+
 TEST_F(CliFit, RecoversAttitudeAndMomentsFromInlineObservations) {
   const lgi::State<double> truth{lgi::so3::exp(lgi::Vec3<double>(0.4, 0.2, -0.3)), lgi::Vec3<double>(0.7, -0.4, 1.1)};
   const std::string problem = R"("problem": {"type": "free_body", "inertia": [0.9, 1.3, 1.7]})";
@@ -275,14 +345,14 @@ TEST_F(CliFit, BadFitFilesGetOneMessageNamingThePath) {
       {"negative sigma", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": -1}])",
        "/fit/observations/0/sigma", "> 0"},
       {"not a rotation", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "R": [[1,0,0],[0,1,0],[0,0,2]], "sigma": 1e-3}])",
-       "/fit/observations/0/R", "not a rotation"},
+       "/fit/observations/0/R", "must be a rotation matrix (to 0.01): |R^T R - I| = 3"},
       {"mismatched size", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2], "sigma": 1e-3}])",
        "/fit/observations/0/omega", "array of 3"},
       {"two kinds in one", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2, 3], "R": )" +
                                R_id + R"(, "sigma": 1e-3}])",
        "/fit/observations/0", "exactly one"},
-      {"quaternion not unit", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "q": [1, 0, 0, 0.1], "sigma": 1e-3}])",
-       "/fit/observations/0/q", "unit quaternion"},
+      {"quaternion not unit", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "q": [1, 0, 0, 0.2], "sigma": 1e-3}])",
+       "/fit/observations/0/q", "must be a unit quaternion (to 0.01), its length is 1.0198"},
       {"unknown loss", R"("unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": 1, "loss": "l1"}])",
        "/fit/observations/0/loss", "l1"},
       {"fixed out of range", R"("unknowns": [{"name": "initial.omega", "fixed": [3]}], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": 1}])",
