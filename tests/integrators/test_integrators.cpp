@@ -187,7 +187,11 @@ TYPED_TEST(IntegratorTest, GenericTorquePathMatchesReducedPath) {
   SG generic(opaque);
   integrate_to(reduced, xr, 0.0, 0.01, 2.0);
   integrate_to(generic, xg, 0.0, 0.01, 2.0);
-  EXPECT_LT(test::state_distance(xr, xg), 1e-13) << SR::traits.name;
+  // The same operations for the LGVI (0 measured); the RKMK methods' double runs carry principal axes and the
+  // opaque top's run the body frame (rkmk.hpp): 3.5e-15 … 3.7e-15.
+  test::expect_figure(std::string("generic vs reduced torque path over 200 steps, ") + std::string(SR::traits.name) +
+                          " (test_integrators)",
+                      test::state_distance(xr, xg), 1.5e-14);
 
   const State<double> ref = test::reference_solution(top, x0, 2.0, 40000);
   std::vector<double> hs, errors;

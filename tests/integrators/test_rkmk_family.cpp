@@ -515,7 +515,10 @@ TYPED_TEST(RkmkFamily, GenericTorquePathMatchesReducedPath) {
   SG generic(opaque);
   integrate_to(reduced, xr, 0.0, 0.01, 2.0);
   integrate_to(generic, xg, 0.0, 0.01, 2.0);
-  EXPECT_LT(test::state_distance(xr, xg), 1e-13) << SR::traits.name;
+  // The double run of the reduced top carries principal axes, the opaque top's the body frame (the RkmkPrincipalAxes
+  // tests below): 1.7e-15 … 5.8e-15.
+  test::expect_figure(std::string("generic vs reduced torque path over 200 steps, ") + std::string(SR::traits.name),
+                      test::state_distance(xr, xg), 2.5e-14);
 }
 
 // ---- a non-diagonal J: the state in principal axes (integrators/rkmk.hpp) ----
