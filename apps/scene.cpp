@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -233,10 +234,12 @@ Scene parse_scene(const json& document, const std::string& file) {
 
   // output
   if (auto output = root.find("output")) {
-    output->allow_only({"times", "every"});
+    output->allow_only({"times", "every", "interval"});
     const auto times = output->find("times");
     const auto every = output->find("every");
-    if (times && every) output->fail("give either \"times\" or \"every\", not both");
+    const auto interval = output->find("interval");
+    if ((times.has_value() + every.has_value() + interval.has_value()) > 1)
+      output->fail("give one of \"times\", \"every\" and \"interval\"");
     if (times) {
       const std::size_t n = times->size();
       for (std::size_t i = 0; i < n; ++i) {
@@ -251,6 +254,20 @@ Scene parse_scene(const json& document, const std::string& file) {
       }
     }
     if (every) scene.output_every = every->integer(1, std::int64_t{1} << 53);
+    if (interval) {
+      // The grid k·interval (k = 1, 2, … below t_end; t_end itself is always written), as output times: adaptive
+      // methods fill it from their dense output, fixed-step methods as any output time.
+      const double dt_out = interval->positive();
+      const double count = std::floor(scene.t_end / dt_out);
+      if (count > max_interval_rows)
+        interval->fail("t_end/interval = " + format_number(scene.t_end / dt_out) + " rows, more than the " +
+                       format_number(max_interval_rows) + " an output grid may have (use \"every\")");
+      for (double k = 1; k <= count; ++k) {
+        const double t = k * dt_out;  // not a running sum: no drift along the grid
+        // A grid point within rounding of t_end is t_end's row.
+        if (scene.t_end - t > 16 * std::numeric_limits<double>::epsilon() * scene.t_end) scene.output_times.push_back(t);
+      }
+    }
   }
 
   // limits (budgets): see Scene

@@ -46,6 +46,8 @@ struct Scene {
 
 // The largest number of steps a scene may ask for (t_end / dt).
 inline constexpr double max_scene_steps = 1e13;
+// The most rows "output": {"interval"} may ask for (t_end / interval; each an output time held in memory).
+inline constexpr double max_interval_rows = 1e7;
 
 Scene load_scene(const std::string& file);
 Scene parse_scene(const json& document, const std::string& file);

@@ -426,6 +426,37 @@ TEST_F(Cli, RoundedAttitudesAreProjectedAndReported) {
   EXPECT_FALSE(fs::exists(dir_ / "refused.csv"));
 }
 
+// "output": {"interval": Δ} on an adaptive run: rows exactly at k·Δ from the dense output, the accepted steps and the
+// final state those of the run without outputs (bytes of the last row); too fine a grid is refused.
+TEST_F(Cli, OutputIntervalIsAUniformGridThatLeavesTheStepsAlone) {
+  const std::string integrator = R"("integrator": {"method": "rkmk_dp8", "dt": 0.01, "rtol": 1e-10, "atol": 1e-10})";
+  const auto run = [&](const std::string& rest) {
+    const fs::path file = write("grid.json", std::string(SceneText{.integrator = integrator, .rest = rest}));
+    return lgi("run " + file.string());
+  };
+  const Result plain = run(R"("t_end": 7.3)");
+  const Result grid = run(R"("t_end": 7.3, "output": {"interval": 0.1})");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  ASSERT_EQ(grid.status, 0) << grid.err;
+  const auto steps = [](const std::string& err) { return err.substr(err.find("  steps "), err.find('(', err.find("  steps ")) - err.find("  steps ")); };
+  EXPECT_EQ(steps(grid.err), steps(plain.err));
+  const Csv p = parse_csv(plain.out), g = parse_csv(grid.out);
+  ASSERT_EQ(p.rows.size(), 2u);  // t = 0 and t_end
+  ASSERT_EQ(g.rows.size(), 74u);  // 0, 0.1, …, 7.2 and 7.3
+  EXPECT_EQ(g.text.back(), p.text.back());
+  for (std::size_t k = 1; k + 1 < g.rows.size(); ++k) EXPECT_EQ(g.rows[k][0], static_cast<double>(k) * 0.1) << k;
+  EXPECT_EQ(g.rows.back()[0], 7.3);
+  const Result fine = run(R"("t_end": 7.3, "output": {"interval": 1e-7})");
+  EXPECT_EQ(fine.status, 1);
+  EXPECT_NE(fine.err.find("/output/interval: t_end/interval = 7.3e+07 rows, more than the 1e+07 an output grid may "
+                          "have (use \"every\")"),
+            std::string::npos)
+      << fine.err;
+  const Result both = run(R"("t_end": 7.3, "output": {"interval": 0.1, "every": 3})");
+  EXPECT_EQ(both.status, 1);
+  EXPECT_NE(both.err.find("/output: give one of \"times\", \"every\" and \"interval\""), std::string::npos) << both.err;
+}
+
 TEST_F(Cli, FailedIntegrationExitsTwoAndKeepsTheLastGoodState) {
   // h|Ω| = 1.5 about the symmetry axis: the LGVI's implicit equation has no solution.
   const fs::path file =
