@@ -135,7 +135,7 @@ std::vector<BadScene> bad_scenes() {
       {"times_repeated", std::string(SceneText{.rest = R"("t_end": 1, "output": {"times": [0.5, 0.5]})"}),
        "/output/times/1", "must increase"},
       {"times_and_every", std::string(SceneText{.rest = R"("t_end": 1, "output": {"times": [0.5], "every": 10})"}),
-       "/output", "either \"times\" or \"every\""},
+       "/output", "give one of \"times\", \"every\" and \"interval\""},
       {"unknown_method", std::string(SceneText{.integrator = R"("integrator": {"method": "rk45", "dt": 0.1})"}),
        "/integrator/method", "unknown method \"rk45\" (known: lgvi, rkmk4, lie_euler, "},
       {"every_huge", std::string(SceneText{.rest = R"("t_end": 1, "output": {"every": 1e300})"}), "/output/every",

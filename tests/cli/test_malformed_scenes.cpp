@@ -439,7 +439,7 @@ std::vector<Case> cases() {
       {"output_not_object", edit(h, "{\"every\": 2}", "[2]"),
        "lgi: error: {file}: /output: expected an object, got an array of 1"},
       {"output_times_and_every", edit(h, "{\"every\": 2}", "{\"every\": 2, \"times\": [0.05]}"),
-       "lgi: error: {file}: /output: give either \"times\" or \"every\", not both"},
+       "lgi: error: {file}: /output: give one of \"times\", \"every\" and \"interval\""},
       {"output_time_after_end", edit(adaptive, "[0.05, 0.1]", "[0.05, 0.2]"),
        "lgi: error: {file}: /output/times/1: output time 0.2 is outside [0, t_end = 0.1]"},
       {"output_times_decreasing", edit(adaptive, "[0.05, 0.1]", "[0.1, 0.05]"),
