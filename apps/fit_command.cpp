@@ -87,6 +87,7 @@ json result_json(const FitSpec& spec, const fit::FitResult<P>& r, const std::str
   out["seconds"] = r.seconds;
   out["residuals"] = r.residuals;
   out["initial_cost"] = r.initial_cost;
+  if (!spec.periodic) out["guess_cost"] = r.guess_cost;
   out["final_cost"] = r.final_cost;
   out["max_residual"] = r.max_residual;
   if (!spec.periodic) {
@@ -156,13 +157,16 @@ std::string brief(const FitSpec& spec, const fit::FitResult<P>& r, const std::st
   s += buf;
   for (const auto* list : {&spec.scene.adjustments, &spec.adjustments})
     for (const InputAdjustment& a : *list) s += "  input            " + a.where + " " + a.what + "\n";
-  const std::string stages = spec.options.continuation.empty() || spec.periodic
-                                 ? std::string()
-                                 : " (" + std::to_string(spec.options.continuation.size()) +
-                                       " continuation stages first; the cost is the full arc's)";
-  std::snprintf(buf, sizeof buf, "  %s after %d iterations (%ld integrations, %.3g s); cost %.3g -> %.3g%s, max |r%s| %.3g\n",
-                r.termination_type.c_str(), r.iterations, r.integrations, r.seconds, r.initial_cost, r.final_cost,
-                stages.c_str(), spec.periodic ? "" : "/sigma", r.max_residual);
+  // The cost over the whole arc: at the guess, after the continuation stages (where there are any), at the solution.
+  char costs[160];
+  if (spec.options.continuation.empty() || spec.periodic)
+    std::snprintf(costs, sizeof costs, "cost %.3g -> %.3g", r.initial_cost, r.final_cost);
+  else
+    std::snprintf(costs, sizeof costs, "cost %.3g at the guess, %.3g after %zu continuation stages -> %.3g",
+                  r.guess_cost, r.initial_cost, spec.options.continuation.size(), r.final_cost);
+  std::snprintf(buf, sizeof buf, "  %s after %d iterations (%ld integrations, %.3g s); %s, max |r%s| %.3g\n",
+                r.termination_type.c_str(), r.iterations, r.integrations, r.seconds, costs,
+                spec.periodic ? "" : "/sigma", r.max_residual);
   s += buf;
   if (r.p_value >= 0) {
     std::snprintf(buf, sizeof buf, "  chi^2 = %.4g for %d degrees of freedom (chi^2/nu = %.3g, p = %.3g)\n", r.chi_square,

@@ -106,9 +106,12 @@ struct FitResult {
   Eigen::MatrixXd correlation;          ///< C_kl/√(C_kk C_ll) over `labels` (empty with the covariance)
   Mat3<double> principal_axes = Mat3<double>::Identity();  ///< columns: the axes of problem.inertia's moments
   ///@{
-  /// ½ Σ ρ(|r/σ|²) at the start and at the solution.
+  /// ½ Σ ρ(|r/σ|²) at the start of the last solve and at the solution (with continuation the last solve starts
+  /// where the stages ended).
   double initial_cost = 0, final_cost = 0;
   ///@}
+  /// ½ Σ ρ(|r/σ|²) over all observations at the caller's guess (initial_cost without continuation; observation fits).
+  double guess_cost = 0;
   int iterations = 0;                       ///< Ceres' iterations (successful and not)
   ceres::TerminationType termination = ceres::FAILURE;  ///< Ceres' termination
   std::string termination_type;             ///< "CONVERGENCE", "NO_CONVERGENCE", "FAILURE", ...
@@ -331,6 +334,12 @@ template <template <class> class Method, int N, RigidBodyProblem P>
 FitResult<P> fit_observations_until(const P& problem, const State<double>& initial, std::span<const Unknown> unknowns,
                                     std::span<const Observation> observations, const FitOptions& options,
                                     Clock::time_point deadline) {
+  ModelOptions mo;
+  mo.mode = Mode::observations;
+  mo.dt = options.dt;
+  mo.t_end = options.t_end;
+  mo.stepper = options.stepper;
+  mo.deadline = deadline;
   if (!options.continuation.empty()) {
     check_observations(observations, options.t_end < 0 ? std::numeric_limits<double>::max() : options.t_end);
     double previous = 0;
@@ -361,19 +370,22 @@ FitResult<P> fit_observations_until(const P& problem, const State<double>& initi
     FitOptions last = options;
     last.continuation.clear();
     FitResult<P> res = fit_observations_until<Method, N>(p, x, unknowns, observations, last, deadline);
-    res.integrations += integrations;
+    // The cost at the guess over the whole arc (one integration in double).
+    Model<Method, P, N> at_guess(problem, initial, unknowns, observations, mo);
+    ceres::Problem::Options po;
+    po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem cp(po);
+    at_guess.add_to(cp);
+    if (!cp.Evaluate(ceres::Problem::EvaluateOptions(), &res.guess_cost, nullptr, nullptr, nullptr))
+      res.guess_cost = std::numeric_limits<double>::infinity();
+    res.integrations += integrations + 1;
     res.iterations += iterations;
     res.seconds += seconds;
     return res;
   }
-  ModelOptions mo;
-  mo.mode = Mode::observations;
-  mo.dt = options.dt;
-  mo.t_end = options.t_end;
-  mo.stepper = options.stepper;
-  mo.deadline = deadline;
   Model<Method, P, N> model(problem, initial, unknowns, observations, mo);
   FitResult<P> res = detail::solve(model, options.solver, options.compute_covariance, deadline);
+  res.guess_cost = res.initial_cost;
   const bool robust = std::any_of(observations.begin(), observations.end(),
                                   [](const Observation& o) { return o.loss != Loss::none; });
   if (!robust && res.degrees_of_freedom > 0 && std::isfinite(res.chi_square)) {

@@ -66,6 +66,13 @@ TEST(FitInertia, FreeBodyRatiosFromAttitudesAndGyros) {
   std::printf("  without continuation: |Omega0 error| %.2e, cost %.3e, %s after %d iterations\n",
               (test::as_vec3(one.at("initial.omega").value) - truth.Omega).cwiseAbs().maxCoeff(), one.final_cost,
               one.termination_type.c_str(), one.iterations);
+  // The cost at the guess over the whole arc: what the one-stage fit starts from; the stages lower it before the last
+  // solve starts.
+  std::printf("  cost at the guess %.6e (one stage starts at %.6e), after the continuation stages %.3e\n", res.guess_cost,
+              one.initial_cost, res.initial_cost);
+  EXPECT_NEAR(res.guess_cost, one.initial_cost, 1e-12 * one.initial_cost);
+  EXPECT_EQ(one.guess_cost, one.initial_cost);
+  EXPECT_LT(res.initial_cost, 1e-6 * res.guess_cost);
 }
 
 // All three moments free: the scale is not identifiable. The fit still matches the data (the cost reaches round-off
