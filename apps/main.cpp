@@ -77,6 +77,7 @@ void catch_interrupts() {
 struct RunCommandOptions {
   std::string scene_file, output, checkpoint, checkpoint_every, resume;
   bool quiet = false;
+  bool progress = false;  // --progress: progress lines also when stderr is not a terminal
 };
 
 // --checkpoint-every: "N" steps or "S s" seconds of wall time (e.g. 1000000, 30s, 0.5s).
@@ -264,7 +265,10 @@ int run_command(const RunCommandOptions& cmd) {
   catch_interrupts();
   lgi::app::RunOptions options;
   options.csv = out.get();
-  options.progress = !cmd.quiet && isatty(STDERR_FILENO);
+  options.progress = cmd.quiet ? lgi::app::Progress::none
+                     : isatty(STDERR_FILENO) ? lgi::app::Progress::terminal
+                     : cmd.progress ? lgi::app::Progress::lines
+                                    : lgi::app::Progress::none;
   options.stop = &g_signal;
   options.checkpoint_path = checkpoint;
   options.checkpoint_every_steps = every_steps;
@@ -425,6 +429,11 @@ int run_command(const RunCommandOptions& cmd) {
   else if (!checkpoint.empty() && report.stop_reason != lgi::app::StopReason::none &&
            report.stop_reason != lgi::app::StopReason::left_domain)
     message += "; no checkpoint: " + report.checkpoint_error;
+  else if (checkpoint.empty() && (report.stop_reason == lgi::app::StopReason::signal ||
+                                  report.stop_reason == lgi::app::StopReason::max_steps ||
+                                  report.stop_reason == lgi::app::StopReason::max_wall_seconds))
+    message += "; to be able to continue a stopped run, give it --checkpoint CK (with -o FILE): lgi run --resume CK "
+               "then goes on";
   return fail(status, name + ": " + message);
 }
 
@@ -512,6 +521,8 @@ int main(int argc, char** argv) {
                   "Write the CSV to FILE (a temporary file renamed into place at the end; an incomplete run's rows too, "
                   "with a non-zero exit status)");
   run->add_flag("-q,--quiet", run_options.quiet, "No summary and no progress on stderr");
+  run->add_flag("--progress", run_options.progress,
+                "Progress on stderr also when it is not a terminal (a line every 2 s; on a terminal it always shows)");
   run->add_option("--checkpoint", run_options.checkpoint,
                   "Write checkpoints to CK (needs -o): periodically, and where a signal or a budget stops the run");
   run->add_option("--checkpoint-every", run_options.checkpoint_every,

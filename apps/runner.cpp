@@ -35,11 +35,46 @@ std::string relative(double initial, double final) {
 
 namespace runner_detail {
 
-SessionMonitor::SessionMonitor(const RunOptions& options, const Scene& scene, std::int64_t total, std::int64_t steps)
-    : options_(options), max_wall_seconds_(scene.max_wall_seconds), total_(total), checkpoint_steps_(steps) {}
+SessionMonitor::SessionMonitor(const RunOptions& options, const Scene& scene, std::int64_t steps)
+    : options_(options), max_wall_seconds_(scene.max_wall_seconds), t_end_(scene.t_end), checkpoint_steps_(steps) {}
 
-SessionMonitor::Action SessionMonitor::check(std::int64_t steps) {
+namespace {
+// A wall-clock duration for a progress line: "42 s", "3 min 07 s", "2 h 05 min".
+std::string duration_text(double s) {
+  char buf[48];
+  if (!(s < 1e9)) return "?";
+  const long n = std::lround(s);
+  if (n < 60) std::snprintf(buf, sizeof buf, "%ld s", n);
+  else if (n < 3600) std::snprintf(buf, sizeof buf, "%ld min %02ld s", n / 60, n % 60);
+  else std::snprintf(buf, sizeof buf, "%ld h %02ld min", n / 3600, (n % 3600) / 60);
+  return buf;
+}
+}  // namespace
+
+void SessionMonitor::show_progress(std::int64_t steps, double t, double seconds) {
   const auto now = Clock::now();
+  const double measured = std::chrono::duration<double>(now - first_).count();
+  const double rate = measured > 0 ? static_cast<double>(steps - first_steps_) / measured : 0;
+  const double done = t - first_t_, left = t_end_ - t;
+  const std::string remaining = done > 0 ? ", about " + duration_text(measured * left / done) + " left" : "";
+  char line[256];
+  std::snprintf(line, sizeof line, "t = %.6g of %.6g (%.1f %%), %.3g steps/s, %s elapsed%s", t, t_end_, 100 * t / t_end_,
+                rate, duration_text(seconds).c_str(), remaining.c_str());
+  if (options_.progress == Progress::terminal)
+    std::fprintf(stderr, "\r  %-100s", line);
+  else
+    std::fprintf(stderr, "lgi: progress: %s\n", line);
+  std::fflush(stderr);
+  printed_ = true;
+}
+
+SessionMonitor::Action SessionMonitor::check(std::int64_t steps, double t) {
+  const auto now = Clock::now();
+  if (first_steps_ < 0) {
+    first_steps_ = steps;
+    first_t_ = t;
+    first_ = now;
+  }
   const double since = std::chrono::duration<double>(now - last_check_).count();
   last_check_ = now;
   // The next call after about target_interval of work: at most twice as many steps, at least one.
@@ -58,12 +93,11 @@ SessionMonitor::Action SessionMonitor::check(std::int64_t steps) {
     reason_ = StopReason::max_wall_seconds;
     return Action::stop;
   }
-  if (options_.progress && total_ > 0 && seconds >= 1 && now - last_progress_ >= std::chrono::milliseconds(250)) {
+  if (options_.progress != Progress::none && seconds >= 1 &&
+      (!printed_ ||
+       now - last_progress_ >= std::chrono::milliseconds(options_.progress == Progress::terminal ? 250 : 2000))) {
     last_progress_ = now;
-    printed_ = true;
-    std::fprintf(stderr, "\r  %5.1f %%  %lld of %lld steps", 100.0 * static_cast<double>(steps) / static_cast<double>(total_),
-                 static_cast<long long>(steps), static_cast<long long>(total_));
-    std::fflush(stderr);
+    show_progress(steps, t, seconds);
   }
   if (options_.csv && options_.flush_seconds > 0 &&
       std::chrono::duration<double>(now - last_flush_).count() >= options_.flush_seconds) {
@@ -84,7 +118,7 @@ void SessionMonitor::checkpointed(std::int64_t steps) {
 }
 
 void SessionMonitor::finish() const {
-  if (printed_) std::fprintf(stderr, "\r%60s\r", "");
+  if (printed_ && options_.progress == Progress::terminal) std::fprintf(stderr, "\r%104s\r", "");
 }
 
 bool Checkpointer::write(const Cursor& c, std::span<const double> internal, double t, const State<double>& x,

@@ -68,9 +68,13 @@ class RunObserver {
   ~RunObserver() = default;
 };
 
+// How a run shows its progress on stderr (SessionMonitor): not at all, on a terminal (one line rewritten at most four
+// times a second), or as whole lines every 2 s (a log).
+enum class Progress : std::uint8_t { none, terminal, lines };
+
 struct RunOptions {
   OutputFile* csv = nullptr;                        // rows go here, one record each; nullptr: no rows
-  bool progress = false;                            // a progress line on stderr (for terminals)
+  Progress progress = Progress::none;
   const volatile std::sig_atomic_t* stop = nullptr;  // the run stops when *stop becomes non-zero
   // Long runs flush the rows at least this often (wall seconds; checked with the monitor).
   double flush_seconds = 1.0;

@@ -111,8 +111,9 @@ constexpr std::size_t integral_count() {
 }
 
 // The monitor of one invocation: stops the run on a signal, when the wall-clock budget is spent, or after the
-// output's first failed write; shows progress on stderr at most four times a second once a run has taken more
-// than a second; flushes the rows every RunOptions::flush_seconds; and says when a checkpoint is due. The drivers
+// output's first failed write; shows progress on stderr (RunOptions::progress: the simulated time, its fraction of
+// t_end, steps per second, elapsed and remaining wall time) at most four times a second on a terminal, or every
+// 2 s as lines, once a run has taken more than a second; flushes the rows every RunOptions::flush_seconds; and says when a checkpoint is due. The drivers
 // call it after 1 step, then after the number of steps (adaptive runs: attempted steps) check() returns: doubled
 // while the calls come faster than every `target_interval` and cut in proportion when they come slower, between 1
 // and max_stride. So it runs about every 10 ms of work whatever a step costs (a step of a million DMV substeps,
@@ -123,9 +124,10 @@ class SessionMonitor {
   enum class Action { proceed, stop, checkpoint };
   static constexpr std::int64_t max_stride = 1024;
   static constexpr double target_interval = 0.01;  // seconds
-  // total: the steps the run takes (0: no progress line); steps: those taken before this invocation.
-  SessionMonitor(const RunOptions& options, const Scene& scene, std::int64_t total, std::int64_t steps);
-  Action check(std::int64_t steps);
+  // steps: those taken before this invocation.
+  SessionMonitor(const RunOptions& options, const Scene& scene, std::int64_t steps);
+  // steps taken and the simulated time reached.
+  Action check(std::int64_t steps, double t);
   // The steps (attempted steps) until the next call, as set by the last check().
   std::int64_t stride() const { return stride_; }
   void checkpointed(std::int64_t steps);  // a checkpoint was written: the interval starts again
@@ -135,8 +137,12 @@ class SessionMonitor {
 
  private:
   const RunOptions& options_;
+  void show_progress(std::int64_t steps, double t, double seconds);
   double max_wall_seconds_;
-  std::int64_t total_;
+  double t_end_;
+  std::int64_t first_steps_ = -1;  // steps and simulated time at the first check(): the rate is measured from there
+  double first_t_ = 0;
+  Clock::time_point first_{};
   Clock::time_point start_ = Clock::now(), last_progress_ = start_, last_flush_ = start_, last_checkpoint_ = start_,
                     last_check_ = start_;
   std::int64_t checkpoint_steps_;

@@ -100,7 +100,7 @@ class Session final : public RunSink {
           RunReport& report, std::int64_t steps_before)
       : problem_(problem), engine_(engine), scene_(scene), options_(options), report_(report), rows_(options.csv),
         observation_(engine, scene.initial, scene.dt, !(scene.options.rtol > 0)),
-        monitor_(options, scene, scene.options.rtol > 0 ? 0 : report.expected_steps, steps_before),
+        monitor_(options, scene, steps_before),
         checkpointer_(options, scene), numbers_(engine.state_size()) {}
 
   RowWriter& rows() { return rows_; }
@@ -130,7 +130,7 @@ class Session final : public RunSink {
 
   void observe(double t, bool initial) override { row(t, initial ? From::initial : From::event); }
   std::int64_t check(const Cursor& at) override {
-    switch (monitor_.check(at.steps)) {
+    switch (monitor_.check(at.steps, at.adaptive ? at.t : static_cast<double>(at.n) * scene_.dt)) {
       case SessionMonitor::Action::stop: return 0;
       case SessionMonitor::Action::checkpoint:
         if (!checkpoint(at)) {  // the first failed write stops the run; the last checkpoint stays

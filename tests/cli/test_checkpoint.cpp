@@ -233,6 +233,45 @@ TEST_F(Checkpoints, SigtermWithoutCheckpointKeepsTheRows) {
   expect_no_temporary_files();
 }
 
+// Progress: under a pseudo-terminal (script(1)) a long run (10⁸ steps) shows the simulated time, its fraction, the
+// rate and the time left; with stderr not a terminal nothing, unless --progress (whole lines). SIGINT's message says
+// how to continue: --checkpoint without one (with one, --resume: ResumedRunsWriteTheSameBytes… above).
+TEST_F(Checkpoints, ProgressOnATerminalAndHowToContinueAfterSigint) {
+  const fs::path file = write("long.json", scene(R"({"method": "lgvi", "dt": 1e-6})", "100", R"({"every": 1000000})"));
+  const std::string out = (dir_ / "long.csv").string();
+  // A terminal: script runs `timeout -s INT 1.6 lgi run …` on a pseudo-terminal and copies what it shows to stdout.
+  const std::string screen = (dir_ / "screen.txt").string();
+  const std::string command = "script -qec 'timeout --preserve-status -s INT 2 " + std::string(LGI_EXE) + " run " + file.string() +
+                              " -o " + out + "' /dev/null > " + screen + " 2>&1";
+  ASSERT_EQ(std::system(command.c_str()) >> 8, 128 + SIGINT);
+  const std::string shown = slurp(screen);
+  EXPECT_NE(shown.find("\r  t = "), std::string::npos) << shown;
+  EXPECT_NE(shown.find(" of 100 ("), std::string::npos) << shown;
+  EXPECT_NE(shown.find(" s elapsed, about "), std::string::npos) << shown;
+  EXPECT_NE(shown.find(" left"), std::string::npos) << shown;
+  // Not a terminal: no progress; the message says how to make a run that can continue.
+  pid_t pid = spawn({"run", file.string(), "-o", out});
+  std::this_thread::sleep_for(std::chrono::milliseconds(2000));
+  ::kill(pid, SIGINT);
+  Result r = wait(pid);
+  EXPECT_EQ(r.status, 128 + SIGINT);
+  EXPECT_EQ(r.err.find("steps/s"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("interrupted by SIGINT at t = "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("; to be able to continue a stopped run, give it --checkpoint CK (with -o FILE): lgi run "
+                       "--resume CK then goes on"),
+            std::string::npos)
+      << r.err;
+  // --progress: lines, for logs.
+  pid = spawn({"run", file.string(), "-o", out, "--progress"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(2000));
+  ::kill(pid, SIGINT);
+  r = wait(pid);
+  EXPECT_EQ(r.status, 128 + SIGINT);
+  EXPECT_EQ(r.err.rfind("lgi: progress: t = ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(" s elapsed, about "), std::string::npos) << r.err;
+  expect_no_temporary_files();
+}
+
 TEST_F(Checkpoints, LimitsAreValidated) {
   const struct {
     const char* limits;
