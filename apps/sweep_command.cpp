@@ -320,6 +320,24 @@ int sweep_command(const SweepCommandOptions& options) {
   const std::int64_t block =
       n_steps > 0 ? std::clamp<std::int64_t>(std::min(batch_block_work / n_steps, per_thread), 4, 1024) : 1;
   std::atomic<int> kernel_used{-1};
+  // Progress on a terminal (not with -q), at most four times a second once the sweep has taken a second: members
+  // written, their rate, elapsed and remaining wall time. Called with `mutex` held.
+  const bool progress = !options.quiet && isatty(STDERR_FILENO);
+  auto last_progress = start;
+  bool progress_shown = false;
+  const auto show_progress = [&](std::int64_t done) {
+    const auto now = std::chrono::steady_clock::now();
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    if (!progress || elapsed < 1 || (progress_shown && now - last_progress < std::chrono::milliseconds(250))) return;
+    last_progress = now;
+    progress_shown = true;
+    const double rate = static_cast<double>(done) / elapsed;
+    std::fprintf(stderr, "\r  %lld of %lld members (%.1f %%), %.3g members/s, %.0f s elapsed, about %.0f s left   ",
+                 static_cast<long long>(done), static_cast<long long>(count),
+                 100.0 * static_cast<double>(done) / static_cast<double>(count), rate, elapsed,
+                 rate > 0 ? static_cast<double>(count - done) / rate : 0.0);
+    std::fflush(stderr);
+  };
   const auto work = [&] {
     for (;;) {
       const std::int64_t k0 = next.fetch_add(block);
@@ -358,6 +376,7 @@ int sweep_command(const SweepCommandOptions& options) {
         abort = true;
         return;
       }
+      show_progress(written);
     }
   };
   // Workers: as many as the system gives (the file is the same for any number); one that cannot be started is a
@@ -375,6 +394,7 @@ int sweep_command(const SweepCommandOptions& options) {
   }
   work();
   for (std::thread& t : workers) t.join();
+  if (progress_shown) std::fprintf(stderr, "\r%100s\r", "");
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   if (options.stop && *options.stop) {  // `out` removes its temporary file: nothing is written
