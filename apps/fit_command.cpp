@@ -44,6 +44,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -245,6 +246,24 @@ int fit_command(const FitCommandOptions& options) {
                                     " (got \"" + method + "\"; the library lgi::fit takes any, see docs/fitting.md)");
   spec.options.solver.progress = false;
   spec.periodic_options.solver.progress = false;
+  // Progress on a terminal (not with -q), at most four times a second once the fit has taken a second.
+  const auto fit_start = std::chrono::steady_clock::now();
+  auto last_progress = fit_start;
+  bool progress_shown = false;
+  if (!options.quiet && isatty(STDERR_FILENO)) {
+    const auto show = [&](int iteration, double cost, double gradient) {
+      const auto now = std::chrono::steady_clock::now();
+      const double elapsed = std::chrono::duration<double>(now - fit_start).count();
+      if (elapsed < 1 || (progress_shown && now - last_progress < std::chrono::milliseconds(250))) return;
+      last_progress = now;
+      progress_shown = true;
+      std::fprintf(stderr, "\r  iteration %d: cost %.4g, max |gradient| %.3g, %.0f s elapsed   ", iteration, cost,
+                   gradient, elapsed);
+      std::fflush(stderr);
+    };
+    spec.options.solver.on_iteration = show;
+    spec.periodic_options.solver.on_iteration = show;
+  }
 
   // An unwritable output path fails before the (possibly long) solve; the file itself is created after it,
   // so that a fit killed mid-way leaves no temporary file behind.
@@ -288,6 +307,7 @@ int fit_command(const FitCommandOptions& options) {
                                     std::string(e.what()).substr(e.field().size() + 2));
   }
 
+  if (progress_shown) std::fprintf(stderr, "\r%90s\r", "");
   const std::string text = result.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
   std::unique_ptr<OutputFile> out;
   try {

@@ -31,6 +31,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -46,6 +47,10 @@ struct SolverOptions {
   double parameter_tolerance = 1e-12;  ///< Ceres: stop when |Δθ| < this (|θ| + this)
   int num_threads = 1;                 ///< Ceres' threads for residual and Jacobian evaluations
   bool progress = false;               ///< Ceres' per-iteration table on stdout
+  /// Called after every iteration of the solver (each continuation stage's too) with the iteration's number
+  /// within its solve, the cost ½ Σ ρ and the largest gradient component; empty: not called. For progress
+  /// displays (`lgi fit` on a terminal); it must not throw.
+  std::function<void(int iteration, double cost, double gradient)> on_iteration = {};
   /// A wall-clock budget for the whole fit (continuation stages included), seconds; 0: none. When it is spent the
   /// integration under way stops within 1024 steps, the solver stops, and the result is not usable
   /// (FitResult::budget_exhausted).
@@ -294,6 +299,15 @@ FitResult<P> solve(Model<Method, P, N>& model, const SolverOptions& solver, bool
   const auto start = Clock::now();
   ceres::Solver::Summary summary;
   ceres::Solver::Options o = solver_options(solver);
+  struct Callback final : ceres::IterationCallback {
+    const SolverOptions& s;
+    explicit Callback(const SolverOptions& options) : s(options) {}
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary& i) override {
+      s.on_iteration(i.iteration, i.cost, i.gradient_max_norm);
+      return ceres::SOLVER_CONTINUE;
+    }
+  } callback(solver);
+  if (solver.on_iteration) o.callbacks.push_back(&callback);
   if (deadline != Clock::time_point::max())
     o.max_solver_time_in_seconds = std::max(0.0, std::chrono::duration<double>(deadline - start).count());
   ceres::Solve(o, &cp, &summary);

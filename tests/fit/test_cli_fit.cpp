@@ -312,6 +312,25 @@ TEST_F(CliFit, ExamplesRunAsDocumented) {
   EXPECT_EQ(res.at("steps").get<int>(), 1000);
 }
 
+// On a terminal (script(1)) a fit that takes seconds shows its iterations (examples/fit at h = 3e-5, ≈ 2 s: the
+// integrations are 330 000 steps); the line is cleared before the report.
+TEST_F(CliFit, ProgressOnATerminal) {
+  for (const char* f : {"truth.json", "fit.json"}) fs::copy_file(fs::path(LGI_EXAMPLES_DIR) / "fit" / f, dir_ / f);
+  ASSERT_EQ(lgi("run " + (dir_ / "truth.json").string() + " -q -o " + (dir_ / "obs.csv").string()).status, 0);
+  json fit = json::parse(slurp(dir_ / "fit.json"));
+  fit["integrator"]["dt"] = 3e-5;
+  write("slow.json", fit.dump());
+  const std::string screen = (dir_ / "screen.txt").string();
+  const std::string command = "script -qec '" + std::string(LGI_EXE) + " fit " + (dir_ / "slow.json").string() +
+                              " -o " + (dir_ / "slow_result.json").string() + "' /dev/null > " + screen + " 2>&1";
+  EXPECT_EQ(std::system(command.c_str()) >> 8, 0);
+  const std::string shown = slurp(screen);
+  EXPECT_NE(shown.find("\r  iteration "), std::string::npos) << shown;
+  EXPECT_NE(shown.find(", max |gradient| "), std::string::npos) << shown;
+  EXPECT_NE(shown.find(" s elapsed"), std::string::npos) << shown;
+  EXPECT_NE(shown.find("lgi fit: "), std::string::npos) << shown;
+}
+
 struct BadFit {
   const char* name;
   std::string fit;       // the "fit" section's members, or a whole replacement when it starts with '{'
