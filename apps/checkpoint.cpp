@@ -155,6 +155,11 @@ bool write_checkpoint(const std::string& path, const Checkpoint& ck, const std::
                  {"head_fnv1a64", hex64(ck.output.head_hash)},
                  {"tail_fnv1a64", hex64(ck.output.tail_hash)}};
   j["last_row_t"] = ck.has_last_row ? nlohmann::ordered_json(hex(ck.last_row_t)) : nlohmann::ordered_json(nullptr);
+  if (!ck.output_quaternion.empty()) {
+    nlohmann::ordered_json q = nlohmann::ordered_json::array();
+    for (const double v : ck.output_quaternion) q.push_back(hex(v));
+    j["last_row_quaternion"] = q;
+  }
   nlohmann::ordered_json every = nlohmann::ordered_json::object();
   if (ck.every_steps > 0) every["steps"] = ck.every_steps;
   if (ck.every_seconds > 0) every["seconds"] = ck.every_seconds;
@@ -232,7 +237,7 @@ Checkpoint parse_checkpoint(const std::string& text, const std::string& path) {
   const Node root(doc, "", path);
   if (!root.is_object()) root.fail("not a checkpoint of lgi run");
   root.allow_only({"lgi_checkpoint", "lgi_version", "scene_file", "method", "t", "state", "cursor", "internal",
-                   "output", "last_row_t", "checkpoint_every", "scene", "checksum"});
+                   "output", "last_row_t", "last_row_quaternion", "checkpoint_every", "scene", "checksum"});
   Checkpoint ck;
   ck.scene_file = root.at("scene_file").string();
   const Node scene = root.at("scene");
@@ -293,6 +298,10 @@ Checkpoint parse_checkpoint(const std::string& text, const std::string& path) {
   const Node last = root.at("last_row_t");
   ck.has_last_row = !last.value().is_null();
   if (ck.has_last_row) ck.last_row_t = read_hex(last);
+  if (const auto q = root.find("last_row_quaternion")) {
+    if (!q->is_array() || q->size() != 4) q->fail("expected 4 numbers (the last row's quaternion)");
+    for (std::size_t i = 0; i < 4; ++i) ck.output_quaternion.push_back(read_hex(q->at(i)));
+  }
   const Node every = root.at("checkpoint_every");
   every.allow_only({"steps", "seconds"});
   if (auto n = every.find("steps")) ck.every_steps = n->integer(1, big);

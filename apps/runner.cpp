@@ -122,13 +122,14 @@ void SessionMonitor::finish() const {
 }
 
 bool Checkpointer::write(const Cursor& c, std::span<const double> internal, double t, const State<double>& x,
-                         const RowWriter& rows, RunReport& report) {
+                         const RowWriter& rows, std::span<const double> quaternion, RunReport& report) {
   Checkpoint ck;
   ck.scene_file = scene_.file;
   ck.scene = options_.scene_document;
   ck.method = std::string(scene_.method->traits.name);
   ck.cursor = c;
   ck.internal.assign(internal.begin(), internal.end());
+  ck.output_quaternion.assign(quaternion.begin(), quaternion.end());
   ck.output = options_.output;
   ck.has_last_row = rows.has_row();
   ck.last_row_t = rows.last_t();
@@ -168,6 +169,12 @@ std::string csv_header(const Scene& scene) {
     h += name;
   }
   return h;
+}
+
+std::string output_header(const Scene& scene) {
+  if (scene.columns.empty()) return csv_header(scene);
+  const std::vector<std::string_view> names = scene.problem->invariant_names();
+  return column_header(scene.columns, names);
 }
 
 std::vector<std::string> integral_names(const Scene& scene) {

@@ -146,6 +146,8 @@ std::string brief_report(const Scene& scene, const RunReport& report);
 
 // The CSV header row for a scene's problem (without the newline).
 std::string csv_header(const Scene& scene);
+// The header `lgi run` writes: the scene's "output.columns" (output_columns.hpp), or csv_header without them.
+std::string output_header(const Scene& scene);
 
 // The names of the problem's integrals of the motion among its CSV columns (RunReport::invariants): all of its
 // invariants, but for the Euler-angle top, whose last columns are coordinates (sin_theta, phi, theta, psi).

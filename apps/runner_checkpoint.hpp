@@ -17,7 +17,8 @@
 //   - "output": the target file name, the file holding the rows so far (the temporary file while the run goes,
 //     the target once a stopped run renamed it), how many of its bytes belong to the run at this point, and
 //     FNV-1a hashes of their first and last 4 KiB (a resume refuses a file that does not match);
-//   - the time of the last row written, the checkpoint interval, the scene's JSON document as loaded;
+//   - the time of the last row written, with its quaternion columns where the scene's "output.columns" has them
+//     (their sign continues from it: output_columns.hpp), the checkpoint interval, the scene's JSON document;
 //   - "checksum": FNV-1a 64 (hashing.hpp) of the whole document in canonical form without this member. A file
 //     changed or damaged anywhere (a flipped byte, a cut, an edited value) is refused with one line before any of
 //     it is used; semantic checks (cursor against the scene, the stepper's size) follow when the run resumes.
@@ -58,6 +59,7 @@ struct Checkpoint {
   Cursor cursor;
   std::vector<double> internal;
   CheckpointOutput output;
+  std::vector<double> output_quaternion;  // the last row's quaternion columns ("output.columns"; empty: none)
   bool has_last_row = false;
   double last_row_t = 0;
   std::int64_t every_steps = 0;  // the checkpoint interval of the run (one of the two, or neither)

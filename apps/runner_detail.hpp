@@ -159,8 +159,9 @@ class Checkpointer {
   Checkpointer(const RunOptions& options, const Scene& scene) : options_(options), scene_(scene) {}
   bool enabled() const { return !options_.checkpoint_path.empty(); }
   // Flushes and fsyncs the rows, then writes the checkpoint for cursor c and the stepper's numbers.
+  // `quaternion`: the last row's quaternion columns (output_columns.hpp; empty: none).
   bool write(const Cursor& c, std::span<const double> internal, double t, const State<double>& x, const RowWriter& rows,
-             RunReport& report);
+             std::span<const double> quaternion, RunReport& report);
 
  private:
   const RunOptions& options_;

@@ -234,7 +234,8 @@ Scene parse_scene(const json& document, const std::string& file) {
 
   // output
   if (auto output = root.find("output")) {
-    output->allow_only({"times", "every", "interval"});
+    output->allow_only({"times", "every", "interval", "columns"});
+    if (const auto columns = output->find("columns")) scene.columns = read_column_groups(*columns);
     const auto times = output->find("times");
     const auto every = output->find("every");
     const auto interval = output->find("interval");

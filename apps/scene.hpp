@@ -13,6 +13,7 @@
 #pragma once
 
 #include "json_reader.hpp"
+#include "output_columns.hpp"
 #include "registry.hpp"
 
 #include <lgi/core/integrator.hpp>
@@ -34,6 +35,7 @@ struct Scene {
   double t_end = 0;
   std::vector<double> output_times;  // when non-empty: write at these times (and 0, t_end)
   std::int64_t output_every = 0;     // when > 0: write every N steps (and 0, t_end)
+  std::vector<ColumnGroup> columns;  // "output.columns" (output_columns.hpp); empty: the standard row
   // "limits": the run stops (RunStatus::stopped, `lgi` exit 6) after max_steps steps (adaptive runs: attempted
   // steps) or max_wall_seconds of wall time, both counted from the start of this invocation (a resumed run
   // starts counting again); 0: no limit.

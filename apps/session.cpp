@@ -104,6 +104,7 @@ class Session final : public RunSink {
         checkpointer_(options, scene), numbers_(engine.state_size()) {}
 
   RowWriter& rows() { return rows_; }
+  ColumnMapper& mapper() { return mapper_; }
   SessionMonitor& monitor() { return monitor_; }
   Checkpointer& checkpointer() { return checkpointer_; }
   Observation& observation() { return observation_; }
@@ -115,7 +116,13 @@ class Session final : public RunSink {
     columns_.clear();
     if (from == From::initial) problem_.initial_columns(scene_, t, columns_);
     else problem_.columns(t, engine_, from == From::event ? Slot::event : Slot::current, columns_);
-    for (const double v : columns_) rows_.add(v);
+    if (!scene_.columns.empty()) {
+      chosen_.clear();
+      mapper_.map(columns_, chosen_);
+      for (const double v : chosen_) rows_.add(v);
+    } else {
+      for (const double v : columns_) rows_.add(v);
+    }
     rows_.end_row();
   }
 
@@ -123,7 +130,8 @@ class Session final : public RunSink {
   bool checkpoint(const Cursor& at) {
     engine_.save(Slot::current, numbers_);
     const double t = at.adaptive ? at.t : static_cast<double>(at.n) * scene_.dt;
-    const bool ok = checkpointer_.write(at, numbers_, t, engine_.state(Slot::current), rows_, report_);
+    const bool ok =
+        checkpointer_.write(at, numbers_, t, engine_.state(Slot::current), rows_, mapper_.previous_quaternion(), report_);
     if (ok) monitor_.checkpointed(at.steps);
     return ok;
   }
@@ -155,6 +163,8 @@ class Session final : public RunSink {
   Checkpointer checkpointer_;
   std::vector<double> numbers_;
   std::vector<double> columns_;
+  ColumnMapper mapper_{scene_.columns};  // "output.columns"
+  std::vector<double> chosen_;
 };
 
 // The columns' energy and integrals into the report (initial or final values).
@@ -176,7 +186,7 @@ void report_values(const std::vector<double>& columns, std::size_t integrals, do
 RunReport run_session(const ProblemRunner& problem, const Scene& scene, const RunOptions& options) {
   RunReport report;
   report.expected_steps = static_cast<std::int64_t>(std::ceil(scene.t_end / scene.dt - 1e-9));
-  if (options.csv && !options.resume && !options.csv->write_record(csv_header(scene) + "\n")) report.write_failed = true;
+  if (options.csv && !options.resume && !options.csv->write_record(output_header(scene) + "\n")) report.write_failed = true;
   const std::vector<std::string> names = integral_names(scene);
   std::vector<double> columns;
   problem.initial_columns(scene, 0.0, columns);
@@ -246,6 +256,7 @@ RunReport run_session(const ProblemRunner& problem, const Scene& scene, const Ru
   Session session(problem, *engine, scene, options, report, c.steps);
   if (options.resume) {
     session.rows().set_last_row(options.resume->has_last_row, options.resume->last_row_t);
+    session.mapper().set_previous_quaternion(options.resume->output_quaternion);
     if (options.resume_accepted && !options.resume_accepted(report.checkpoint_error)) {
       report.summary.status = RunStatus::stopped;
       report.summary.steps = c.steps;

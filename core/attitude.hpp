@@ -86,6 +86,25 @@ Vec3<T> body_rate_from_euler(EulerConvention convention, const Vec3<T>& a, const
   return Vec3<T>(da(2) - da(0) * sp, da(1) * cr + da(0) * sr * cp, -da(1) * sr + da(0) * cr * cp);
 }
 
+/// The Euler angles of a rotation R in the convention's order: z-x-z θ ∈ [0, π], φ, ψ ∈ (−π, π]; z-y-x pitch ∈
+/// [−π/2, π/2], yaw, roll ∈ (−π, π]. At the convention's singularity (z-x-z sin θ = 0, z-y-x cos(pitch) = 0, exactly)
+/// only a sum or difference of the outer angles is defined: the last angle is then 0, so that
+/// rotation_from_euler(convention, euler_from_rotation(convention, R)) = R there too.
+template <class T>
+Vec3<T> euler_from_rotation(EulerConvention convention, const Mat3<T>& R) {
+  using std::atan2;
+  using std::sqrt;
+  if (convention == EulerConvention::zxz) {  // R13 = sθ sφ, R23 = −sθ cφ, R33 = cθ, R31 = sψ sθ, R32 = cψ sθ
+    const T s = sqrt(R(0, 2) * R(0, 2) + R(1, 2) * R(1, 2));
+    if (s == T(0)) return Vec3<T>(atan2(R(1, 0), R(0, 0)), atan2(T(0), R(2, 2)), T(0));
+    return Vec3<T>(atan2(R(0, 2), -R(1, 2)), atan2(s, R(2, 2)), atan2(R(2, 0), R(2, 1)));
+  }
+  // R31 = −sθ, R11 = cψ cθ, R21 = sψ cθ, R32 = cθ sφ, R33 = cθ cφ
+  const T c = sqrt(R(0, 0) * R(0, 0) + R(1, 0) * R(1, 0));
+  if (c == T(0)) return Vec3<T>(atan2(-R(0, 1), R(1, 1)), atan2(-R(2, 0), T(0)), T(0));
+  return Vec3<T>(atan2(R(1, 0), R(0, 0)), atan2(-R(2, 0), c), atan2(R(2, 1), R(2, 2)));
+}
+
 /// R(q) of the quaternion q = (w, x, y, z) / |q| (this header's convention); q ≠ 0 (not checked).
 template <class T>
 Mat3<T> rotation_from_quaternion(const T& w, const T& x, const T& y, const T& z) {

@@ -514,6 +514,11 @@ TEST_F(Checkpoints, BudgetStopsChainOfResumesGivesTheSameBytes) {
        177},
       {"split_axes", scene(R"({"method": "split_axes", "dt": 0.01})", "70", R"({"every": 500})")},
       {"lgvi_suzuki4", scene(R"({"method": "lgvi_suzuki4", "dt": 0.01})", "70", R"({"every": 250})")},
+      // Chosen columns with a quaternion, whose sign continues from the last row before each stop (the top spins at
+      // 5 rad/s: its rotation angle passes π every 1.3 s, so w changes sign between most stops).
+      {"quaternion_columns",
+       scene(R"({"method": "lgvi", "dt": 0.01})", "70",
+             R"({"every": 7, "columns": ["t", "quaternion", "euler_zyx_deg", "omega", "invariants"]})")},
       {"euler_angles",
        R"({"problem": {"type": "lagrange_top_euler_angles", "I2": 2, "I3": 1, "b": 1, "k2": 0.6, "k3": 0.8},
            "initial": {"euler_angles": [0.1, 1.0, 0.2], "euler_rates": [0.3, 0.1, 5.0]},

@@ -4,6 +4,8 @@
 // (more on failures, budgets, signals and checkpoints in test_checkpoint.cpp).
 #include "lgi_process.hpp"
 
+#include <lgi/core/attitude.hpp>
+
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -455,6 +457,68 @@ TEST_F(Cli, OutputIntervalIsAUniformGridThatLeavesTheStepsAlone) {
   const Result both = run(R"("t_end": 7.3, "output": {"interval": 0.1, "every": 3})");
   EXPECT_EQ(both.status, 1);
   EXPECT_NE(both.err.find("/output: give one of \"times\", \"every\" and \"interval\""), std::string::npos) << both.err;
+}
+
+// "output": {"columns": [...]}: the header names the chosen groups in their order; the quaternion and both kinds of
+// Euler angles give back the R of the same row (core/attitude.hpp's maps, applied here) to rounding; the quaternion
+// is continuous (its sign follows the previous row's) while w changes sign; the default columns stay those of
+// csv_header.
+TEST_F(Cli, OutputColumnsAreTheChosenGroupsAndAgreeWithR) {
+  const fs::path file = write(
+      "columns.json",
+      std::string(SceneText{.initial = R"("initial": {"omega": [0.3, 0.2, 5.0]})",
+                            .integrator = R"("integrator": {"method": "lgvi", "dt": 0.01})",
+                            .rest = R"("t_end": 5, "output": {"every": 1, "columns": ["t", "quaternion", "R",
+                                        "euler_zxz", "euler_zyx_deg", "omega", "energy", "invariants"]})"}));
+  const Result r = lgi("run -q " + file.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Csv csv = parse_csv(r.out);
+  EXPECT_EQ(r.out.substr(0, r.out.find('\n')),
+            "t,q_w,q_x,q_y,q_z,R11,R12,R13,R21,R22,R23,R31,R32,R33,zxz_phi,zxz_theta,zxz_psi,yaw_deg,pitch_deg,roll_deg,"
+            "omega1,omega2,omega3,energy,momentum_k");
+  ASSERT_EQ(csv.rows.size(), 501u);
+  double worst_q = 0, worst_zxz = 0, worst_zyx = 0, largest_step = 0, w_min = 1;
+  const double deg = 3.14159265358979323846 / 180;
+  for (std::size_t i = 0; i < csv.rows.size(); ++i) {
+    const auto& row = csv.rows[i];
+    lgi::Mat3<double> R;
+    for (int e = 0; e < 9; ++e) R(e / 3, e % 3) = row[5 + static_cast<std::size_t>(e)];
+    worst_q = std::max(worst_q, (lgi::rotation_from_quaternion(row[1], row[2], row[3], row[4]) - R).cwiseAbs().maxCoeff());
+    // z-x-z angles lose ε/sin θ near θ = 0, where this run starts (R = I): held where sin θ ≥ 0.1.
+    if (std::sin(row[15]) >= 0.1)
+      worst_zxz = std::max(worst_zxz, (lgi::rotation_from_euler(lgi::EulerConvention::zxz,
+                                                                lgi::Vec3<double>(row[14], row[15], row[16])) - R)
+                                          .cwiseAbs()
+                                          .maxCoeff());
+    worst_zyx = std::max(worst_zyx, (lgi::rotation_from_euler(lgi::EulerConvention::zyx,
+                                                              lgi::Vec3<double>(lgi::Vec3<double>(row[17], row[18], row[19]) * deg)) - R)
+                                        .cwiseAbs()
+                                        .maxCoeff());
+    w_min = std::min(w_min, row[1]);
+    if (i > 0) {
+      double d = 0;
+      for (std::size_t k = 1; k <= 4; ++k) d += (row[k] - csv.rows[i - 1][k]) * (row[k] - csv.rows[i - 1][k]);
+      largest_step = std::max(largest_step, std::sqrt(d));
+    }
+  }
+  std::printf("output columns: R from q %.1e, from z-x-z angles %.1e, from z-y-x degrees %.1e; largest |q step| %.3f "
+              "while w reaches %.2f\n", worst_q, worst_zxz, worst_zyx, largest_step, w_min);
+  EXPECT_LT(worst_q, 2.5e-15);
+  EXPECT_LT(worst_zxz, 1e-14);  // ε/sin θ ≤ 10 ε where held
+  EXPECT_LT(worst_zyx, 4e-15);
+  EXPECT_LT(w_min, -0.9);          // the attitude turns through more than π: q's sign had to be chosen
+  EXPECT_LT(largest_step, 0.03);   // |Ω| h / 2 = 0.025 a step: no jump to −q
+  // Bad groups: one message naming the entry.
+  const auto bad = [&](const std::string& columns) {
+    const fs::path f = write("bad_columns.json", std::string(SceneText{.rest = R"("t_end": 1, "output": {"columns": )" +
+                                                                                columns + "}"}));
+    return lgi("run -q " + f.string()).err;
+  };
+  EXPECT_NE(bad(R"(["t", "quaternions"])").find("/output/columns/1: unknown column group \"quaternions\"; did you mean "
+                                                "\"quaternion\"?"),
+            std::string::npos);
+  EXPECT_NE(bad(R"(["t", "R", "t"])").find("/output/columns/2: \"t\" twice"), std::string::npos);
+  EXPECT_NE(bad(R"([])").find("/output/columns: expected a non-empty array of column groups"), std::string::npos);
 }
 
 TEST_F(Cli, FailedIntegrationExitsTwoAndKeepsTheLastGoodState) {

@@ -211,7 +211,7 @@ std::vector<Case> cases() {
        "lgi: error: {file}: /integrator/order: unknown key for method lgvi (allowed: method, dt, tolerance, "
        "max_iterations)"},
       {"unknown_output_key", edit(h, "{\"every\": 2}", "{\"every\": 2, \"format\": \"csv\"}"),
-       "lgi: error: {file}: /output/format: unknown key (allowed: times, every, interval)"},
+       "lgi: error: {file}: /output/format: unknown key (allowed: times, every, interval, columns)"},
       {"unknown_field_key", edit(potential, "\"b\": 1, \"k\"", "\"b\": 1, \"strength\": 2, \"k\""),
        "lgi: error: {file}: /problem/fields/0/strength: unknown key for a uniform field (allowed: "
        "b, k, z0)"},
