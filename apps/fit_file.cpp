@@ -90,6 +90,38 @@ void read_csv(const std::string& path, std::vector<std::string>& header, std::ve
   parse_observation_csv(text.str(), path, header, rows, lines);
 }
 
+// A table's quaternions (q_w..q_z, when it has them all and no R columns) normalised, as in scenes: each within
+// input_defect_bound of unit length, one adjustment for the file; beyond the bound a CsvError naming the line.
+void make_quaternions_exact(const std::string& path, const std::vector<std::string>& header,
+                            std::vector<std::vector<double>>& rows, const std::vector<int>& lines,
+                            std::vector<InputAdjustment>& adjustments) {
+  static constexpr std::string_view names[4] = {"q_w", "q_x", "q_y", "q_z"};
+  std::size_t column[4];
+  for (int i = 0; i < 4; ++i) {
+    column[i] = static_cast<std::size_t>(std::find(header.begin(), header.end(), names[i]) - header.begin());
+    if (column[i] == header.size()) return;  // observations_from_table names what is missing
+  }
+  std::size_t normalised = 0;
+  double largest = 0;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (rows[r].size() != header.size()) continue;  // observations_from_table names the row
+    double n2 = 0;
+    for (const std::size_t c : column) n2 += rows[r][c] * rows[r][c];
+    const double norm = std::sqrt(n2), defect = std::abs(norm - 1);
+    if (!(defect <= input_defect_bound))
+      throw CsvError(path + ":" + std::to_string(lines[r]) + ": columns q_w..q_z: not a unit quaternion (to " +
+                     format_number(input_defect_bound) + "): its length is " + format_number(norm));
+    if (defect <= input_note_defect) continue;
+    for (const std::size_t c : column) rows[r][c] /= norm;
+    ++normalised;
+    largest = std::max(largest, defect);
+  }
+  if (normalised > 0)
+    adjustments.push_back({path, std::to_string(normalised) + " of " + std::to_string(rows.size()) +
+                                     " quaternions normalised (largest ||q| - 1| " + format_defect(largest) + ")",
+                           largest});
+}
+
 // A table's attitudes (R11..R33, when it has them all) made exact as in scenes: each within input_defect_bound of a
 // rotation replaced by the nearest one, one adjustment for the file; beyond the bound a CsvError naming the line.
 void make_attitudes_exact(const std::string& path, const std::vector<std::string>& header,
@@ -99,7 +131,7 @@ void make_attitudes_exact(const std::string& path, const std::vector<std::string
   std::size_t column[9];
   for (int e = 0; e < 9; ++e) {
     column[e] = static_cast<std::size_t>(std::find(header.begin(), header.end(), names[e]) - header.begin());
-    if (column[e] == header.size()) return;  // observations_from_table names what is missing
+    if (column[e] == header.size()) return make_quaternions_exact(path, header, rows, lines, adjustments);
   }
   std::size_t projected = 0;
   double largest = 0;

@@ -27,8 +27,10 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -241,8 +243,8 @@ struct TableOptions {
   std::string field = "observations";  ///< the name errors carry ("observations.csv" ...)
 };
 
-/// Observations from a table whose columns follow `lgi run`'s CSV names: t, R11..R33 (attitude), omega1..3
-/// (gyro). Each row gives an attitude observation when sigma_attitude > 0 and an angular-velocity observation when
+/// Observations from a table whose columns follow `lgi run`'s CSV names: t, R11..R33 (attitude) or, without
+/// them, q_w..q_z (an attitude as a quaternion, "output.columns"), omega1..3 (gyro). Each row gives an attitude observation when sigma_attitude > 0 and an angular-velocity observation when
 /// sigma_omega > 0. Other columns are ignored. Throws FitInputError for a header that names a column twice, a
 /// missing t column, a σ given without all of its columns (the missing ones are named), a row whose size differs
 /// from the header's, or a table that yields no observation.
@@ -263,17 +265,23 @@ inline std::vector<Observation> observations_from_table(std::span<const std::str
   const int t_col = column("t");
   if (t_col < 0) throw FitInputError(options.field, "no column 't'");
   static constexpr std::string_view R_names[9] = {"R11", "R12", "R13", "R21", "R22", "R23", "R31", "R32", "R33"};
+  static constexpr std::string_view Q_names[4] = {"q_w", "q_x", "q_y", "q_z"};
   static constexpr std::string_view W_names[3] = {"omega1", "omega2", "omega3"};
-  int R_cols[9], W_cols[3];
-  std::string R_missing, W_missing;
+  int R_cols[9], Q_cols[4], W_cols[3];
+  std::string R_missing, Q_missing, W_missing;
   for (int i = 0; i < 9; ++i)
     if ((R_cols[i] = column(R_names[i])) < 0) R_missing += (R_missing.empty() ? "" : ", ") + std::string(R_names[i]);
+  for (int i = 0; i < 4; ++i)
+    if ((Q_cols[i] = column(Q_names[i])) < 0) Q_missing += (Q_missing.empty() ? "" : ", ") + std::string(Q_names[i]);
+  // Attitudes from R11..R33, or from the quaternion columns q_w..q_z where the R columns are absent.
+  const bool from_q = std::count(std::begin(R_cols), std::end(R_cols), -1) == 9 && Q_missing.empty();
+  if (from_q) R_missing.clear();
   for (int i = 0; i < 3; ++i)
     if ((W_cols[i] = column(W_names[i])) < 0) W_missing += (W_missing.empty() ? "" : ", ") + std::string(W_names[i]);
   // A declared observation type (its σ given) needs all of its columns: none is dropped silently.
   if (options.sigma_attitude > 0 && !R_missing.empty())
     throw FitInputError(options.field, "sigma_attitude is given but the attitude columns " + R_missing +
-                                           " are missing (need R11..R33)");
+                                           " are missing (need R11..R33, or q_w..q_z)");
   if (options.sigma_omega > 0 && !W_missing.empty())
     throw FitInputError(options.field, "sigma_omega is given but the angular-velocity columns " + W_missing +
                                            " are missing (need omega1..omega3)");
@@ -289,7 +297,11 @@ inline std::vector<Observation> observations_from_table(std::span<const std::str
                                                                             " values, the header " +
                                                                             std::to_string(header.size()));
     const double t = row[static_cast<std::size_t>(t_col)];
-    if (use_R) {
+    if (use_R && from_q) {
+      Eigen::Vector4d q;
+      for (int i = 0; i < 4; ++i) q(i) = row[static_cast<std::size_t>(Q_cols[i])];
+      out.push_back(Observation::attitude_quaternion(t, q, options.sigma_attitude));
+    } else if (use_R) {
       Mat3<double> R;
       for (int i = 0; i < 9; ++i) R(i / 3, i % 3) = row[static_cast<std::size_t>(R_cols[i])];
       out.push_back(Observation::attitude(t, R, options.sigma_attitude));

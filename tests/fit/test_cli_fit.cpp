@@ -181,11 +181,21 @@ TEST_F(CliFit, RoundedObservationsAreMadeExactAndFitWithinTheirSigma) {
   const lgi::Vec3<double> f32 = fit("[" + inline_q + "]", sigma32, err);
   EXPECT_EQ(err.find("lgi: warning: "), std::string::npos) << err;  // float32 rounding: below the warning's 1e-6
   EXPECT_NE(err.find("  input            /fit/observations/1/q normalised (its length was 1 "), std::string::npos) << err;
-  const double d6 = (six - exact).cwiseAbs().maxCoeff(), d32 = (f32 - exact).cwiseAbs().maxCoeff();
+  // A table of quaternion columns (output.columns), as lgi run writes it: the same names are read back.
+  std::string q_scene = truth_scene(skew_top_problem(), truth, "lgvi", 0.01, 10, 20);
+  q_scene.insert(q_scene.rfind('}') - 1, R"(, "columns": ["t", "quaternion", "omega"])");
+  write("truth_q.json", q_scene);
+  ASSERT_EQ(lgi("run " + (dir_ / "truth_q.json").string() + " -q -o " + (dir_ / "q.csv").string()).status, 0);
+  EXPECT_EQ(slurp(dir_ / "q.csv").substr(0, 23), "t,q_w,q_x,q_y,q_z,omega");
+  double sigma_q = 0;
+  const lgi::Vec3<double> from_q = fit(R"({"csv": "q.csv", "sigma_attitude": 1e-6})", sigma_q, err);
+  const double d6 = (six - exact).cwiseAbs().maxCoeff(), d32 = (f32 - exact).cwiseAbs().maxCoeff(),
+               dq = (from_q - exact).cwiseAbs().maxCoeff();
   std::printf("Omega0 from rounded observations against the exact ones: 6 decimals %.2e, float32 quaternions %.2e "
-              "(the fits' sigma %.2e, %.2e)\n", d6, d32, sigma6, sigma32);
+              "(the fits' sigma %.2e, %.2e); from a table of quaternion columns %.2e\n", d6, d32, sigma6, sigma32, dq);
   EXPECT_LT(d6, sigma6);
   EXPECT_LT(d32, sigma32);
+  EXPECT_LT(dq, 1e-12);  // the same attitudes, written as quaternions
 }
 
 TEST_F(CliFit, RecoversAttitudeAndMomentsFromInlineObservations) {
