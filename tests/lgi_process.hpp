@@ -36,6 +36,15 @@ inline std::vector<std::string> split(const std::string& s, char sep) {
   return out;
 }
 
+// Runs `lgi ARGS` on a pseudo-terminal (script(1), util-linux), stopped by SIGINT after `seconds` when seconds > 0;
+// what the terminal showed (progress lines with their carriage returns included) goes to `screen`. Returns the
+// exit status (128 + 2 after the SIGINT).
+inline int lgi_on_a_terminal(const std::string& args, const fs::path& screen, double seconds = 0) {
+  const std::string limit = seconds > 0 ? "timeout --preserve-status -s INT " + std::to_string(seconds) + " " : "";
+  const std::string command = "script -qec '" + limit + std::string(LGI_EXE) + " " + args + "' /dev/null > " + screen.string() + " 2>&1";
+  return std::system(command.c_str()) >> 8;
+}
+
 struct CommandResult {
   int status;  // exit status (-1 if killed by a signal)
   std::string out, err;

@@ -239,12 +239,9 @@ TEST_F(Checkpoints, SigtermWithoutCheckpointKeepsTheRows) {
 TEST_F(Checkpoints, ProgressOnATerminalAndHowToContinueAfterSigint) {
   const fs::path file = write("long.json", scene(R"({"method": "lgvi", "dt": 1e-6})", "100", R"({"every": 1000000})"));
   const std::string out = (dir_ / "long.csv").string();
-  // A terminal: script runs `timeout -s INT 1.6 lgi run …` on a pseudo-terminal and copies what it shows to stdout.
-  const std::string screen = (dir_ / "screen.txt").string();
-  const std::string command = "script -qec 'timeout --preserve-status -s INT 2 " + std::string(LGI_EXE) + " run " + file.string() +
-                              " -o " + out + "' /dev/null > " + screen + " 2>&1";
-  ASSERT_EQ(std::system(command.c_str()) >> 8, 128 + SIGINT);
-  const std::string shown = slurp(screen);
+  // A terminal, stopped after 2 s.
+  ASSERT_EQ(lgi::test::lgi_on_a_terminal("run " + file.string() + " -o " + out, dir_ / "screen.txt", 2), 128 + SIGINT);
+  const std::string shown = slurp(dir_ / "screen.txt");
   EXPECT_NE(shown.find("\r  t = "), std::string::npos) << shown;
   EXPECT_NE(shown.find(" of 100 ("), std::string::npos) << shown;
   EXPECT_NE(shown.find(" s elapsed, about "), std::string::npos) << shown;

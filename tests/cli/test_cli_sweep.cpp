@@ -353,12 +353,10 @@ TEST_F(CliSweep, ProgressOnATerminal) {
   write("slow.json", R"({"problem": {"type": "heavy_top", "inertia": [2.0, 2.0, 1.0], "b": 1.0},
                          "initial": {"omega": [0.1, 0.2, 5.0]}, "integrator": {"method": "rkmk4", "dt": 1e-5},
                          "t_end": 10, "sweep": {"grid": {"/problem/b": {"from": 0.5, "to": 1.5, "count": 40}}}})");
-  const std::string screen = (dir_ / "screen.txt").string();
-  const std::string command = "script -qec 'timeout --preserve-status -s INT 2 " + std::string(LGI_EXE) + " sweep " +
-                              (dir_ / "slow.json").string() + " -o " + (dir_ / "slow.csv").string() + "' /dev/null > " +
-                              screen + " 2>&1";
-  EXPECT_EQ(std::system(command.c_str()) >> 8, 128 + SIGINT);
-  const std::string shown = slurp(screen);
+  EXPECT_EQ(lgi::test::lgi_on_a_terminal("sweep " + (dir_ / "slow.json").string() + " -o " + (dir_ / "slow.csv").string(),
+                                         dir_ / "screen.txt", 2),
+            128 + SIGINT);
+  const std::string shown = slurp(dir_ / "screen.txt");
   EXPECT_NE(shown.find(" of 40 members ("), std::string::npos) << shown;
   EXPECT_NE(shown.find(" members/s, "), std::string::npos) << shown;
   EXPECT_NE(shown.find(" s elapsed, about "), std::string::npos) << shown;

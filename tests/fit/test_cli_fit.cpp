@@ -330,11 +330,11 @@ TEST_F(CliFit, ProgressOnATerminal) {
   json fit = json::parse(slurp(dir_ / "fit.json"));
   fit["integrator"]["dt"] = 3e-5;
   write("slow.json", fit.dump());
-  const std::string screen = (dir_ / "screen.txt").string();
-  const std::string command = "script -qec '" + std::string(LGI_EXE) + " fit " + (dir_ / "slow.json").string() +
-                              " -o " + (dir_ / "slow_result.json").string() + "' /dev/null > " + screen + " 2>&1";
-  EXPECT_EQ(std::system(command.c_str()) >> 8, 0);
-  const std::string shown = slurp(screen);
+  EXPECT_EQ(lgi::test::lgi_on_a_terminal("fit " + (dir_ / "slow.json").string() + " -o " +
+                                             (dir_ / "slow_result.json").string(),
+                                         dir_ / "screen.txt"),
+            0);
+  const std::string shown = slurp(dir_ / "screen.txt");
   EXPECT_NE(shown.find("\r  iteration "), std::string::npos) << shown;
   EXPECT_NE(shown.find(", max |gradient| "), std::string::npos) << shown;
   EXPECT_NE(shown.find(" s elapsed"), std::string::npos) << shown;
