@@ -17,6 +17,8 @@ inline void add_fit_options(CLI::App& app, FitCommandOptions& options) {
   app.add_option("-o,--output", options.output, "Write the result JSON to FILE (atomically: no file on bad input)");
   app.add_flag("-v,--verbose", options.verbose, "Ceres' full report and per-iteration progress on stderr");
   app.add_flag("-q,--quiet", options.quiet, "Nothing on stderr but errors");
+  app.add_flag("--progress", options.progress,
+               "Progress on stderr also when it is not a terminal (a line every 2 s; on a terminal it always shows)");
 }
 
 // --plugin FILE, repeatable, into `plugins`: one FILE per occurrence (the scene after it is not a plugin).

@@ -250,15 +250,19 @@ int fit_command(const FitCommandOptions& options) {
   const auto fit_start = std::chrono::steady_clock::now();
   auto last_progress = fit_start;
   bool progress_shown = false;
-  if (!options.quiet && isatty(STDERR_FILENO)) {
+  const bool terminal = isatty(STDERR_FILENO);
+  if (!options.quiet && (terminal || options.progress)) {  // --progress, not a terminal: a line every 2 s
     const auto show = [&](int iteration, double cost, double gradient) {
       const auto now = std::chrono::steady_clock::now();
       const double elapsed = std::chrono::duration<double>(now - fit_start).count();
-      if (elapsed < 1 || (progress_shown && now - last_progress < std::chrono::milliseconds(250))) return;
+      if (elapsed < 1 || (progress_shown && now - last_progress < std::chrono::milliseconds(terminal ? 250 : 2000)))
+        return;
       last_progress = now;
       progress_shown = true;
-      std::fprintf(stderr, "\r  iteration %d: cost %.4g, max |gradient| %.3g, %.0f s elapsed   ", iteration, cost,
-                   gradient, elapsed);
+      std::fprintf(stderr,
+                   terminal ? "\r  iteration %d: cost %.4g, max |gradient| %.3g, %.0f s elapsed   "
+                            : "lgi: progress: iteration %d: cost %.4g, max |gradient| %.3g, %.0f s elapsed\n",
+                   iteration, cost, gradient, elapsed);
       std::fflush(stderr);
     };
     spec.options.solver.on_iteration = show;
@@ -307,7 +311,7 @@ int fit_command(const FitCommandOptions& options) {
                                     std::string(e.what()).substr(e.field().size() + 2));
   }
 
-  if (progress_shown) std::fprintf(stderr, "\r%90s\r", "");
+  if (progress_shown && terminal) std::fprintf(stderr, "\r%90s\r", "");
   const std::string text = result.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
   std::unique_ptr<OutputFile> out;
   try {

@@ -11,6 +11,7 @@ struct FitCommandOptions {
   std::string output;    // the result JSON; empty: stdout
   bool verbose = false;  // Ceres' full report and per-iteration progress on stderr
   bool quiet = false;    // nothing on stderr but errors
+  bool progress = false;  // progress lines also when stderr is not a terminal (on a terminal it always shows)
 };
 
 // Runs the command; returns the exit status (command.hpp).

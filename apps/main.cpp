@@ -543,6 +543,8 @@ int main(int argc, char** argv) {
   sweep->add_option("--threads", sweep_options.threads, "Worker threads (0: all cores; default 1); same bytes for any N");
   sweep->add_option("--shard", sweep_options.shard, "Run the members m with m mod N = i and write a part for lgi merge");
   sweep->add_flag("-q,--quiet", sweep_options.quiet, "Nothing on stderr but errors");
+  sweep->add_flag("--progress", sweep_options.progress,
+                  "Progress on stderr also when it is not a terminal (a line every 2 s; on a terminal it always shows)");
   bool no_batch = false;
   sweep->add_flag("--no-batch", no_batch,
                   "Run members one by one even when the sweep qualifies for the batched LGVI kernel (same bytes)");

@@ -77,6 +77,7 @@ struct SweepCommandOptions {
   int threads = 1;     // 0: std::thread::hardware_concurrency()
   std::string shard;   // "i/N"; empty: all members
   bool quiet = false;  // nothing on stderr but errors
+  bool progress = false;  // progress lines also when stderr is not a terminal (on a terminal it always shows)
   // Run qualifying sweeps through the batched LGVI kernel (sweep_command.cpp, batch_steps); false: member by member
   // (the same bytes; for comparison).
   bool batch = true;

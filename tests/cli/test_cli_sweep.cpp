@@ -362,6 +362,14 @@ TEST_F(CliSweep, ProgressOnATerminal) {
   EXPECT_NE(shown.find(" s elapsed, about "), std::string::npos) << shown;
   EXPECT_NE(shown.find("lgi: error: sweep interrupted by SIGINT after "), std::string::npos) << shown;
   EXPECT_FALSE(fs::exists(dir_ / "slow.csv"));
+  // Not a terminal, with --progress: lines (12 members, ≈ 1.6 s).
+  std::string twelve = slurp(dir_ / "slow.json");
+  twelve.replace(twelve.find("\"count\": 40"), std::string("\"count\": 40").size(), "\"count\": 12");
+  write("twelve.json", twelve);
+  const CommandResult r = sweep("twelve.json", "twelve.csv", "--progress");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.rfind("lgi: progress: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(" of 12 members ("), std::string::npos) << r.err;
 }
 
 // The same bytes whatever the number of threads (members of different cost: dt varies 5-fold).

@@ -339,6 +339,10 @@ TEST_F(CliFit, ProgressOnATerminal) {
   EXPECT_NE(shown.find(", max |gradient| "), std::string::npos) << shown;
   EXPECT_NE(shown.find(" s elapsed"), std::string::npos) << shown;
   EXPECT_NE(shown.find("lgi fit: "), std::string::npos) << shown;
+  // Not a terminal: lines with --progress, nothing without.
+  const Result lines = lgi("fit --progress " + (dir_ / "slow.json").string() + " -o " + (dir_ / "slow_result.json").string());
+  EXPECT_EQ(lines.status, 0) << lines.err;
+  EXPECT_EQ(lines.err.rfind("lgi: progress: iteration ", 0), 0u) << lines.err;
 }
 
 struct BadFit {
