@@ -34,6 +34,7 @@
 
 #include "command.hpp"
 #include "json_reader.hpp"
+#include "runner.hpp"
 #include "scene.hpp"
 
 #include "fit_file.hpp"
@@ -44,7 +45,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -246,24 +246,15 @@ int fit_command(const FitCommandOptions& options) {
                                     " (got \"" + method + "\"; the library lgi::fit takes any, see docs/fitting.md)");
   spec.options.solver.progress = false;
   spec.periodic_options.solver.progress = false;
-  // Progress on a terminal (not with -q), at most four times a second once the fit has taken a second.
-  const auto fit_start = std::chrono::steady_clock::now();
-  auto last_progress = fit_start;
-  bool progress_shown = false;
-  const bool terminal = isatty(STDERR_FILENO);
-  if (!options.quiet && (terminal || options.progress)) {  // --progress, not a terminal: a line every 2 s
+  // Progress (ProgressLine): the solver's iterations.
+  ProgressLine progress(progress_mode(options.quiet, options.progress));
+  if (progress.mode() != Progress::none) {
     const auto show = [&](int iteration, double cost, double gradient) {
-      const auto now = std::chrono::steady_clock::now();
-      const double elapsed = std::chrono::duration<double>(now - fit_start).count();
-      if (elapsed < 1 || (progress_shown && now - last_progress < std::chrono::milliseconds(terminal ? 250 : 2000)))
-        return;
-      last_progress = now;
-      progress_shown = true;
-      std::fprintf(stderr,
-                   terminal ? "\r  iteration %d: cost %.4g, max |gradient| %.3g, %.0f s elapsed   "
-                            : "lgi: progress: iteration %d: cost %.4g, max |gradient| %.3g, %.0f s elapsed\n",
-                   iteration, cost, gradient, elapsed);
-      std::fflush(stderr);
+      if (!progress.due()) return;
+      char line[160];
+      std::snprintf(line, sizeof line, "iteration %d: cost %.4g, max |gradient| %.3g, %.0f s elapsed", iteration, cost,
+                    gradient, progress.elapsed());
+      progress.show(line);
     };
     spec.options.solver.on_iteration = show;
     spec.periodic_options.solver.on_iteration = show;
@@ -311,7 +302,7 @@ int fit_command(const FitCommandOptions& options) {
                                     std::string(e.what()).substr(e.field().size() + 2));
   }
 
-  if (progress_shown && terminal) std::fprintf(stderr, "\r%90s\r", "");
+  progress.clear();
   const std::string text = result.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
   std::unique_ptr<OutputFile> out;
   try {

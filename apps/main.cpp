@@ -265,10 +265,7 @@ int run_command(const RunCommandOptions& cmd) {
   catch_interrupts();
   lgi::app::RunOptions options;
   options.csv = out.get();
-  options.progress = cmd.quiet ? lgi::app::Progress::none
-                     : isatty(STDERR_FILENO) ? lgi::app::Progress::terminal
-                     : cmd.progress ? lgi::app::Progress::lines
-                                    : lgi::app::Progress::none;
+  options.progress = lgi::app::progress_mode(cmd.quiet, cmd.progress);
   options.stop = &g_signal;
   options.checkpoint_path = checkpoint;
   options.checkpoint_every_steps = every_steps;

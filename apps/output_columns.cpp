@@ -2,6 +2,7 @@
 
 #include <lgi/core/attitude.hpp>
 #include <lgi/core/so3.hpp>
+#include <lgi/integrators/free_body_flows.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -96,28 +97,8 @@ void ColumnMapper::map(std::span<const double> standard, std::vector<double>& ou
       case ColumnGroup::t: out.push_back(standard[col_t]); break;
       case ColumnGroup::R: out.insert(out.end(), standard.begin() + col_R, standard.begin() + col_R + 9); break;
       case ColumnGroup::quaternion: {
-        const Mat3<double> R = rotation_of(standard);
-        // Shepperd's method (the largest pivot: no square root of a small or negative number).
-        std::array<double, 4> q{};
-        const double tr = R.trace();
-        int k = -1;
-        double big = tr;
-        for (int i = 0; i < 3; ++i)
-          if (R(i, i) > big) {
-            big = R(i, i);
-            k = i;
-          }
-        if (k < 0) {
-          const double s = 2 * std::sqrt(1 + tr);
-          q = {s / 4, (R(2, 1) - R(1, 2)) / s, (R(0, 2) - R(2, 0)) / s, (R(1, 0) - R(0, 1)) / s};
-        } else {
-          const int i = k, j = (k + 1) % 3, l = (k + 2) % 3;
-          const double s = 2 * std::sqrt(1 + R(i, i) - R(j, j) - R(l, l));
-          q[0] = (R(l, j) - R(j, l)) / s;
-          q[static_cast<std::size_t>(1 + i)] = s / 4;
-          q[static_cast<std::size_t>(1 + j)] = (R(j, i) + R(i, j)) / s;
-          q[static_cast<std::size_t>(1 + l)] = (R(l, i) + R(i, l)) / s;
-        }
+        const Quaternion<double> u = quat::from_matrix(rotation_of(standard));
+        std::array<double, 4> q{u.w, u.v(0), u.v(1), u.v(2)};
         bool flip;
         if (has_previous_) {
           flip = q[0] * previous_[0] + q[1] * previous_[1] + q[2] * previous_[2] + q[3] * previous_[3] < 0;

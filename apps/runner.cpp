@@ -31,6 +31,31 @@ std::string relative(double initial, double final) {
 
 }  // namespace
 
+Progress progress_mode(bool quiet, bool asked) {
+  return quiet ? Progress::none : isatty(STDERR_FILENO) ? Progress::terminal : asked ? Progress::lines : Progress::none;
+}
+
+bool ProgressLine::due() const {
+  if (mode_ == Progress::none) return false;
+  const auto now = Clock::now();
+  if (now - start_ < std::chrono::seconds(1)) return false;
+  return !shown_ || now - last_ >= std::chrono::milliseconds(mode_ == Progress::terminal ? 250 : 2000);
+}
+
+void ProgressLine::show(const std::string& text) {
+  if (mode_ == Progress::terminal)
+    std::fprintf(stderr, "\r  %-100s", text.c_str());
+  else
+    std::fprintf(stderr, "lgi: progress: %s\n", text.c_str());
+  std::fflush(stderr);
+  last_ = Clock::now();
+  shown_ = true;
+}
+
+void ProgressLine::clear() const {
+  if (shown_ && mode_ == Progress::terminal) std::fprintf(stderr, "\r%104s\r", "");
+}
+
 // ---- the monitor ---------------------------------------------------------------------------------------------
 
 namespace runner_detail {
@@ -60,12 +85,7 @@ void SessionMonitor::show_progress(std::int64_t steps, double t, double seconds)
   char line[256];
   std::snprintf(line, sizeof line, "t = %.6g of %.6g (%.1f %%), %.3g steps/s, %s elapsed%s", t, t_end_, 100 * t / t_end_,
                 rate, duration_text(seconds).c_str(), remaining.c_str());
-  if (options_.progress == Progress::terminal)
-    std::fprintf(stderr, "\r  %-100s", line);
-  else
-    std::fprintf(stderr, "lgi: progress: %s\n", line);
-  std::fflush(stderr);
-  printed_ = true;
+  progress_.show(line);
 }
 
 SessionMonitor::Action SessionMonitor::check(std::int64_t steps, double t) {
@@ -93,12 +113,7 @@ SessionMonitor::Action SessionMonitor::check(std::int64_t steps, double t) {
     reason_ = StopReason::max_wall_seconds;
     return Action::stop;
   }
-  if (options_.progress != Progress::none && seconds >= 1 &&
-      (!printed_ ||
-       now - last_progress_ >= std::chrono::milliseconds(options_.progress == Progress::terminal ? 250 : 2000))) {
-    last_progress_ = now;
-    show_progress(steps, t, seconds);
-  }
+  if (progress_.due()) show_progress(steps, t, seconds);
   if (options_.csv && options_.flush_seconds > 0 &&
       std::chrono::duration<double>(now - last_flush_).count() >= options_.flush_seconds) {
     options_.csv->flush();
@@ -117,9 +132,7 @@ void SessionMonitor::checkpointed(std::int64_t steps) {
   last_checkpoint_ = last_flush_ = Clock::now();
 }
 
-void SessionMonitor::finish() const {
-  if (printed_ && options_.progress == Progress::terminal) std::fprintf(stderr, "\r%104s\r", "");
-}
+void SessionMonitor::finish() const { progress_.clear(); }
 
 bool Checkpointer::write(const Cursor& c, std::span<const double> internal, double t, const State<double>& x,
                          const RowWriter& rows, std::span<const double> quaternion, RunReport& report) {

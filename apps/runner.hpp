@@ -28,6 +28,7 @@
 
 #include <lgi/core/driver.hpp>
 
+#include <chrono>
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
@@ -68,9 +69,31 @@ class RunObserver {
   ~RunObserver() = default;
 };
 
-// How a run shows its progress on stderr (SessionMonitor): not at all, on a terminal (one line rewritten at most four
-// times a second), or as whole lines every 2 s (a log).
+// How a command shows its progress on stderr: not at all, on a terminal (one line rewritten at most four times a
+// second), or as whole lines every 2 s (a log).
 enum class Progress : std::uint8_t { none, terminal, lines };
+
+// terminal when stderr is one, lines when asked (--progress), none with -q.
+Progress progress_mode(bool quiet, bool asked);
+
+// The progress display of `lgi run`, `lgi sweep` and `lgi fit`: due() is true once the command has run a second,
+// then every 250 ms on a terminal or 2 s as lines; show() writes a line (rewritten in place on a terminal, prefixed
+// "lgi: progress: " otherwise); clear() removes a terminal's line before the command's own output.
+class ProgressLine {
+ public:
+  explicit ProgressLine(Progress mode) : mode_(mode) {}
+  Progress mode() const { return mode_; }
+  double elapsed() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+  bool due() const;
+  void show(const std::string& text);
+  void clear() const;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  Progress mode_;
+  Clock::time_point start_ = Clock::now(), last_ = start_;
+  bool shown_ = false;
+};
 
 struct RunOptions {
   OutputFile* csv = nullptr;                        // rows go here, one record each; nullptr: no rows

@@ -143,11 +143,11 @@ class SessionMonitor {
   std::int64_t first_steps_ = -1;  // steps and simulated time at the first check(): the rate is measured from there
   double first_t_ = 0;
   Clock::time_point first_{};
-  Clock::time_point start_ = Clock::now(), last_progress_ = start_, last_flush_ = start_, last_checkpoint_ = start_,
+  Clock::time_point start_ = Clock::now(), last_flush_ = start_, last_checkpoint_ = start_,
                     last_check_ = start_;
   std::int64_t checkpoint_steps_;
   std::int64_t stride_ = 1;
-  bool printed_ = false;
+  ProgressLine progress_{options_.progress};
   StopReason reason_ = StopReason::none;
 };
 

@@ -320,29 +320,17 @@ int sweep_command(const SweepCommandOptions& options) {
   const std::int64_t block =
       n_steps > 0 ? std::clamp<std::int64_t>(std::min(batch_block_work / n_steps, per_thread), 4, 1024) : 1;
   std::atomic<int> kernel_used{-1};
-  // Progress on a terminal (not with -q), at most four times a second once the sweep has taken a second: members
-  // written, their rate, elapsed and remaining wall time. Called with `mutex` held.
-  // With --progress and stderr not a terminal: a line every 2 s instead.
-  const bool terminal = isatty(STDERR_FILENO);
-  const bool progress = !options.quiet && (terminal || options.progress);
-  auto last_progress = start;
-  bool progress_shown = false;
+  // Progress (ProgressLine): members written, their rate, elapsed and remaining wall time. Called with `mutex` held.
+  ProgressLine progress(progress_mode(options.quiet, options.progress));
   const auto show_progress = [&](std::int64_t done) {
-    const auto now = std::chrono::steady_clock::now();
-    const double elapsed = std::chrono::duration<double>(now - start).count();
-    if (!progress || elapsed < 1 ||
-        (progress_shown && now - last_progress < std::chrono::milliseconds(terminal ? 250 : 2000)))
-      return;
-    last_progress = now;
-    progress_shown = true;
-    const double rate = static_cast<double>(done) / elapsed;
-    std::fprintf(stderr, terminal ? "\r  %lld of %lld members (%.1f %%), %.3g members/s, %.0f s elapsed, about %.0f s left   "
-                                  : "lgi: progress: %lld of %lld members (%.1f %%), %.3g members/s, %.0f s elapsed, "
-                                    "about %.0f s left\n",
-                 static_cast<long long>(done), static_cast<long long>(count),
-                 100.0 * static_cast<double>(done) / static_cast<double>(count), rate, elapsed,
-                 rate > 0 ? static_cast<double>(count - done) / rate : 0.0);
-    std::fflush(stderr);
+    if (!progress.due()) return;
+    const double elapsed = progress.elapsed(), rate = static_cast<double>(done) / elapsed;
+    char line[200];
+    std::snprintf(line, sizeof line, "%lld of %lld members (%.1f %%), %.3g members/s, %.0f s elapsed, about %.0f s left",
+                  static_cast<long long>(done), static_cast<long long>(count),
+                  100.0 * static_cast<double>(done) / static_cast<double>(count), rate, elapsed,
+                  rate > 0 ? static_cast<double>(count - done) / rate : 0.0);
+    progress.show(line);
   };
   const auto work = [&] {
     for (;;) {
@@ -400,7 +388,7 @@ int sweep_command(const SweepCommandOptions& options) {
   }
   work();
   for (std::thread& t : workers) t.join();
-  if (progress_shown && terminal) std::fprintf(stderr, "\r%100s\r", "");
+  progress.clear();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   if (options.stop && *options.stop) {  // `out` removes its temporary file: nothing is written

@@ -52,14 +52,11 @@ namespace lgi {
 
 // rotation_from_euler_angles and body_rate_from_euler_rates, eq. (6.3): core/attitude.hpp.
 
-/// (φ, θ, ψ) of a rotation, inverting (6.3): θ ∈ [0, π], φ, ψ ∈ (−π, π] (atan2; at sin θ = 0 only φ ± ψ
-/// is defined and the split returned is arbitrary).
+/// (φ, θ, ψ) of a rotation, inverting (6.3): θ ∈ [0, π], φ, ψ ∈ (−π, π] (core/attitude.hpp's euler_from_rotation;
+/// at sin θ = 0, where only φ ± ψ is defined, ψ = 0).
 template <class T>
 Vec3<T> euler_angles_from_rotation(const Mat3<T>& R) {
-  using std::atan2;
-  using std::sqrt;
-  const T s = sqrt(R(0, 2) * R(0, 2) + R(1, 2) * R(1, 2));
-  return Vec3<T>(atan2(R(0, 2), -R(1, 2)), atan2(s, R(2, 2)), atan2(R(2, 0), R(2, 1)));
+  return euler_from_rotation(EulerConvention::zxz, R);
 }
 
 /// Wraps x into (−π, π].
