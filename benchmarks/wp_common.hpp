@@ -95,10 +95,8 @@ struct Method {
   std::function<std::unique_ptr<Trial>(const Case&, std::span<const double> times, double param)> make;
 };
 
-// lgi's methods that apply to the case (wp_lgi_free.cpp, wp_lgi_top.cpp).
+// lgi's methods that apply to the case, through the engine of `lgi run` (wp_lgi.cpp).
 std::vector<Method> lgi_methods(const Case& c);
-std::vector<Method> lgi_methods_free_body(const Case& c);
-std::vector<Method> lgi_methods_top(const Case& c);
 // The peers compiled in (wp_peers.cpp), and their versions ("boost_odeint": "1.74", ...).
 std::vector<Method> peer_methods(const Case& c);
 std::vector<std::pair<std::string, std::string>> peer_versions();

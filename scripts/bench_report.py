@@ -176,7 +176,8 @@ def main():
     if wp.get("smoke"):
         w("| **smoke run** | tiny sizes, one repetition: not a measurement |")
     w("")
-    w("Every solver integrates the same body from the same state: lgi's methods on SO(3) × R³, the peers on "
+    w("Every solver integrates the same body from the same state: lgi's methods on SO(3) × R³ as `lgi run` runs "
+      "them (the case's scene with the method, through the command's engine and its compilation), the peers on "
       "the unit quaternion and the body momentum (7 entries, about 60 flops per right-hand side with gravity). "
       "Solver creation and re-initialisation are outside the timing. t(ε) is the CPU time to reach error ε at T, "
       "interpolated log-log on each method's Pareto front; `—`: not reached within the sweep "

@@ -1,0 +1,165 @@
+// benchmarks/wp_lgi.cpp — lgi's methods as work-precision trials, run as `lgi run` runs them: the case's scene with
+// the trial's method (apps/scene.hpp), its problem's lgi::Integrator (core/engine.hpp) — the methods compiled once,
+// in lgi_scene, with the command's flags — fixed steps by run_grid with events at the output times, embedded pairs
+// by run_adaptive (rtol = atol = the tolerance, AdaptiveOptions' defaults), the sink storing one Sample per output
+// time into storage reserved beforehand. The integrator is built when the trial is made (outside the timing); run()
+// starts from the case's initial state. The projected methods are the scene's "projection": true.
+#include "wp_common.hpp"
+
+#include "registry.hpp"        // apps/: find_method
+#include "runner_detail.hpp"   // apps/: the problem's runner, its integrator
+#include "scene.hpp"           // apps/: load_scene
+
+#include <lgi/core/engine.hpp>
+#include <lgi/integrators/adaptive.hpp>
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace wp {
+namespace {
+
+// The engine's sink: a Sample per output time (the initial one as the case gives it); the monitor never runs.
+class Samples final : public lgi::RunSink {
+ public:
+  Samples(const lgi::Integrator& engine, const State& x0, std::vector<Sample>& out)
+      : engine_(engine), x0_(x0), out_(out) {}
+  void observe(double t, bool initial) override {
+    const State x = initial ? x0_ : engine_.state(lgi::Slot::event);
+    out_.push_back({t, x, orthogonality(x.R)});
+  }
+  std::int64_t check(const lgi::Cursor<double>&) override { return never; }
+  std::int64_t first_check() const override { return never; }
+
+ private:
+  static constexpr std::int64_t never = std::numeric_limits<std::int64_t>::max();
+  const lgi::Integrator& engine_;
+  const State& x0_;
+  std::vector<Sample>& out_;
+};
+
+// One configured run: `param` is the number of steps over [0, times.back()] (fixed) or the tolerance (adaptive).
+class EngineTrial final : public Trial {
+ public:
+  EngineTrial(const Case& c, const lgi::app::Scene& case_scene, const lgi::app::MethodInfo& method, bool projected,
+              bool adaptive, std::span<const double> times, double param)
+      : x0_(c.x0), times_(times.begin(), times.end()), adaptive_(adaptive) {
+    lgi::app::Scene scene = case_scene;
+    scene.method = &method;
+    scene.options = lgi::StepperOptions{};
+    scene.options.projection = projected;
+    if (adaptive) {
+      scene.options.rtol = scene.options.atol = param;
+      h0_ = initial_step(c);
+    } else {
+      h_ = times_.back() / param;
+      scene.dt = h_;
+    }
+    engine_ = scene.problem->runner()->integrator(scene);
+    samples_.reserve(times_.size() + 1);
+  }
+  void reset() override { samples_.clear(); }
+  bool run() override {
+    samples_.clear();
+    samples_.push_back({0.0, x0_, orthogonality(x0_.R)});  // t0, as given (the library's drivers observe it)
+    engine_->set(lgi::Slot::current, x0_, 0.0);
+    Samples sink(*engine_, x0_, samples_);
+    lgi::IntegrationSummary summary;
+    bool moved = false;
+    const std::span<const double> times(times_);
+    if (adaptive_) {
+      const lgi::AdaptiveOptions options;
+      lgi::Cursor<double> c = lgi::adaptive_start(0.0, h0_, options);
+      while (static_cast<std::size_t>(c.next) < times.size() && times[static_cast<std::size_t>(c.next)] == 0.0) ++c.next;
+      engine_->run_adaptive(times, times.back(), options, options.max_steps, c, summary, moved, sink);
+      steps_ = c.steps;
+    } else {
+      lgi::Cursor<double> c;
+      const lgi::GridEvents<double> events(times, 0.0, h_);
+      engine_->run_grid(h_, events, std::numeric_limits<std::int64_t>::max(), c, summary, moved, sink);
+      steps_ = summary.steps;
+    }
+    return summary.status == lgi::RunStatus::completed;
+  }
+  std::int64_t steps() const override { return steps_; }
+
+ private:
+  std::unique_ptr<lgi::Integrator> engine_;
+  State x0_;
+  std::vector<double> times_;
+  bool adaptive_;
+  double h_ = 0, h0_ = 0;
+  std::int64_t steps_ = 0;
+};
+
+// A Method entry: `name` from the registry; "_projected" with the scene's projection on; adaptive where the method
+// is an embedded pair and asked to be.
+Method engine_method(const Case& c, const std::shared_ptr<const lgi::app::Scene>& scene, std::string_view name,
+                     bool projected = false, bool adaptive = false) {
+  const lgi::app::MethodInfo* info = lgi::app::find_method(name);
+  if (!info) throw std::logic_error("work_precision: no method " + std::string(name) + " in this build");
+  const lgi::MethodTraits& t = info->traits;
+  Method m;
+  m.name = std::string(t.name) + (projected ? "_projected" : "");
+  m.projected = projected;
+  m.library = "lgi";
+  m.description = std::string(t.title);
+  m.order = c.kind == Kind::free_body && t.free_body_order > 0 ? t.free_body_order : t.order;
+  m.adaptive = adaptive;
+  m.symplectic = t.symplectic;
+  m.make = [scene, info, projected, adaptive](const Case& k, std::span<const double> times,
+                                              double param) -> std::unique_ptr<Trial> {
+    return std::make_unique<EngineTrial>(k, *scene, *info, projected, adaptive, times, param);
+  };
+  return m;
+}
+
+}  // namespace
+
+// The methods of the cases, in the order of the report. Free bodies: split_exact is left out (on a free body it is
+// the exact solution, the same code as the reference), and the preprocessed DMV (split_dmv4 … 10, order 2 with a
+// torque) runs there only. A lagrange_top case runs the heavy top's methods (its scene's engine runs them on the
+// same body as a heavy top with z0 = e3) and lagrange_split with its compositions.
+std::vector<Method> lgi_methods(const Case& c) {
+  const auto scene = std::make_shared<const lgi::app::Scene>(lgi::app::load_scene(c.file));
+  const bool free = c.kind == Kind::free_body;
+  std::vector<Method> m;
+  const auto add = [&](std::string_view name, bool projected = false, bool adaptive = false) {
+    m.push_back(engine_method(c, scene, name, projected, adaptive));
+  };
+  add("lgvi");
+  add("split_dmv");
+  add("split_axes");
+  if (free) {
+    for (const char* name : {"split_dmv4", "split_dmv6", "split_dmv8", "split_dmv10"}) add(name);
+  } else {
+    add("split_exact");
+  }
+  for (const char* name : {"lgvi_yoshida4", "lgvi_suzuki4", "lgvi_yoshida6", "lgvi_kahan_li6", "lgvi_yoshida8",
+                           "lgvi_kahan_li8", "lgvi_sofroniou_spaletta10", "split_dmv_yoshida4", "split_dmv_suzuki4",
+                           "split_dmv_kahan_li6", "split_dmv_kahan_li8", "split_dmv_sofroniou_spaletta10", "rkmk4",
+                           "cf4"})
+    add(name);
+  add("rkmk_dp5", false, true);
+  add("rkmk_dp8", false, true);
+  add("rkmk4_cayley");
+  add("rkmk_dp5_cayley", false, true);
+  add("rkmk_dp8_cayley", false, true);
+  add("rkmk_vern9", false, true);
+  add("rkmk_vern9_cayley", false, true);
+  add("rkmk4", true);
+  add("rkmk_dp8_cayley", true, true);
+  if (c.kind == Kind::lagrange_top)
+    for (const char* name : {"lagrange_split", "lagrange_split_yoshida4", "lagrange_split_kahan_li6",
+                             "lagrange_split_kahan_li8", "lagrange_split_sofroniou_spaletta10"})
+      add(name);
+  return m;
+}
+
+}  // namespace wp
