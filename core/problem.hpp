@@ -10,17 +10,23 @@
 ///   Mat3<T> inertia;                              // body frame, symmetric positive definite
 ///   T       potential(const Mat3<T>& R) const;    // V(R)
 ///   Vec3<T> torque(const Mat3<T>& R) const;       // body-frame M(R) = −(∂V/∂η) for R → R·exp(η̂)
-///                                                 //   (or torque(t, R) for a time-dependent one)
+///                                                 //   (or torque(t, R) for a time-dependent one,
+///                                                 //   or torque(t, R, Omega) for one that reads Ω too)
 ///   static constexpr std::array<std::string_view, N> invariant_names;   // extra output columns
 ///   std::array<T, N> invariants(const State<T>& x) const;             // their values
 ///   template <class S> Problem<S> cast() const;   // the same problem in another scalar (Jets)
 /// ~~~
 ///
-/// The equations of motion are those of the seed paper, eqs. (s4)–(s5):
+/// The equations of motion are those of the seed paper, eqs. (s4)–(s5), with the torque in its most general form:
 /// ~~~{.unparsed}
-///   J Ω' = (JΩ) × Ω + M(R),    R' = R hat(Ω),
+///   J Ω' = (JΩ) × Ω + M(t, R, Ω),    R' = R hat(Ω),
 /// ~~~
-/// with energy E = ½ Ω·JΩ + V(R) (invariants.hpp computes it for every problem).
+/// with energy E = ½ Ω·JΩ + V(R) (invariants.hpp computes it for every problem). Where M = −∂V/∂η + M_nc(t, R, Ω)
+/// (a conservative part and the rest), dE/dt = ∂V/∂t + Ω·M_nc: the work of M_nc is the only change of E. A torque
+/// that reads Ω (damping, feedback control: StateTorqueProblem below) has no potential in general, so the methods
+/// built on one — the variational integrator, the splittings, their compositions, the projection onto energy
+/// levels — do not take it (AttitudeTorqueProblem), and the explicit methods (RKMK, commutator-free, the
+/// baselines) evaluate it at each stage's (t, R, Ω).
 #pragma once
 
 #include "scalar.hpp"
@@ -49,10 +55,22 @@ concept RigidBodyProblem =
       { p.inertia } -> std::convertible_to<Mat3<typename P::Scalar>>;
       { p.potential(R) } -> std::convertible_to<typename P::Scalar>;
       requires(requires { { p.torque(R) } -> std::convertible_to<Vec3<typename P::Scalar>>; } ||
-               requires { { p.torque(t, R) } -> std::convertible_to<Vec3<typename P::Scalar>>; });
+               requires { { p.torque(t, R) } -> std::convertible_to<Vec3<typename P::Scalar>>; } ||
+               requires { { p.torque(t, R, x.Omega) } -> std::convertible_to<Vec3<typename P::Scalar>>; });
       P::invariant_names.size();
       { p.invariants(x) } -> std::convertible_to<std::array<typename P::Scalar, P::invariant_names.size()>>;
     };
+
+/// A problem whose torque reads the angular velocity: torque(t, R, Omega) (damping, control; time too).
+template <class P>
+concept StateTorqueProblem =
+    RigidBodyProblem<P> && requires(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R,
+                                    const Vec3<typename P::Scalar>& Omega) { p.torque(t, R, Omega); };
+
+/// A problem whose torque is a function of time and attitude only, M(t, R): what the variational integrator and the
+/// splittings need (their kicks hold the attitude fixed and change Ω by the torque of that attitude).
+template <class P>
+concept AttitudeTorqueProblem = RigidBodyProblem<P> && !StateTorqueProblem<P>;
 
 /// Optional: a torque that depends on the attitude only through Γ = Rᵀa, the image in the body frame of
 /// one fixed laboratory axis a (gravity: a = k, the heavy top). Methods that move the attitude by
@@ -61,8 +79,8 @@ concept RigidBodyProblem =
 ///   Vec3<T> reduced_axis() const;                        // a (laboratory frame)
 ///   Vec3<T> reduced_torque(const Vec3<T>& Gamma) const;  // M, as a function of Γ = Rᵀa
 /// ~~~
-/// torque(R) must equal reduced_torque(Rᵀ reduced_axis()). A problem with a time-dependent torque(t, R)
-/// is never treated as reduced (reduced_torque has no time), even if it inherits the two functions.
+/// torque(R) must equal reduced_torque(Rᵀ reduced_axis()). A problem with a torque(t, R) or torque(t, R, Omega)
+/// is never treated as reduced (reduced_torque has neither time nor Ω), even if it inherits the two functions.
 /// Optional on top of that, where the torque is a cross product with a constant body vector v (gravity on a
 /// rigid body: v = b z0):
 /// ~~~{.unparsed}
@@ -79,7 +97,8 @@ concept ReducedAttitudeProblem =
       { p.reduced_axis() } -> std::convertible_to<Vec3<typename P::Scalar>>;
       { p.reduced_torque(g) } -> std::convertible_to<Vec3<typename P::Scalar>>;
     } &&
-    !requires(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) { p.torque(t, R); };
+    !requires(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) { p.torque(t, R); } &&
+    !StateTorqueProblem<P>;
 
 /// A reduced-attitude problem with a torque Γ × v of constant lever v (the splittings and RKMK read it).
 template <class P>
@@ -107,10 +126,11 @@ void check_reduced_torque_lever(const P& problem, std::string_view who) {
   }
 }
 
-/// Body-frame torque at time t: the one place integrators get a torque from, so that every method sees
-/// the same function — torque(t, R) for time-dependent problems, reduced_torque(Rᵀa) for reduced-attitude
-/// ones (a derived problem that changes the torque must override reduced_torque), torque(R) otherwise.
-template <RigidBodyProblem P>
+/// Body-frame torque at time t and attitude R: the one place integrators get a torque from, so that every method
+/// sees the same function — torque(t, R) for time-dependent problems, reduced_torque(Rᵀa) for reduced-attitude
+/// ones (a derived problem that changes the torque must override reduced_torque), torque(R) otherwise. Not for a
+/// StateTorqueProblem (its torque needs Ω: the overload below).
+template <AttitudeTorqueProblem P>
 Vec3<typename P::Scalar> body_torque(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) {
   if constexpr (requires { p.torque(t, R); })
     return p.torque(t, R);
@@ -118,6 +138,17 @@ Vec3<typename P::Scalar> body_torque(const P& p, const typename P::Scalar& t, co
     return p.reduced_torque(Vec3<typename P::Scalar>(R.transpose() * p.reduced_axis()));
   else
     return p.torque(R);
+}
+
+/// Body-frame torque at (t, R, Ω): torque(t, R, Omega) for a StateTorqueProblem; otherwise the overload above, Ω
+/// unused (the explicit methods call this one at every stage: a torque that does not read Ω is never given one).
+template <RigidBodyProblem P>
+Vec3<typename P::Scalar> body_torque(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R,
+                                     const Vec3<typename P::Scalar>& Omega) {
+  if constexpr (StateTorqueProblem<P>)
+    return p.torque(t, R, Omega);
+  else
+    return body_torque(p, t, R);
 }
 
 /// Potential and invariants at time t. A time-dependent problem (torque(t, R), e.g. problems/satellite.hpp)

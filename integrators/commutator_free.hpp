@@ -235,7 +235,7 @@ class CommutatorFree {
     if constexpr (reduced)
       rhs += problem_.reduced_torque(a);
     else if constexpr (P::has_torque)
-      rhs += body_torque(problem_, t, a);
+      rhs += body_torque(problem_, t, a, Omega);
     return J_.solve(rhs);
   }
 

@@ -198,7 +198,7 @@ constexpr JoinedName<N> join(std::string_view a, std::string_view sep, std::stri
 /// The composition of `Base<P>` (a symmetric order-2 stepper) with the coefficient set C. A stepper where `Base<P>`
 /// is one (lagrange_split: axisymmetric problems only), so the registry offers it exactly there; the class
 /// itself exists for any problem, as `Base<P>` does, so that its traits can be read.
-template <const auto& C, template <class> class Base, RigidBodyProblem P>
+template <const auto& C, template <class> class Base, AttitudeTorqueProblem P>
 class Composition {
   using B = Base<P>;
   static_assert(B::traits.order == 2 && B::traits.symmetric,
@@ -306,44 +306,44 @@ class Composition {
 
 /// Compositions of the LGVI (scene names `lgvi_<coefficients>`).
 /// lgvi_yoshida4: the LGVI composed with compositions::yoshida4 (order 4, 3 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using LgviYoshida4 = Composition<compositions::yoshida4, Lgvi, P>;
 /// lgvi_suzuki4: the LGVI composed with compositions::suzuki4 (order 4, 5 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using LgviSuzuki4 = Composition<compositions::suzuki4, Lgvi, P>;
 /// lgvi_yoshida6: the LGVI composed with compositions::yoshida6 (order 6, 7 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using LgviYoshida6 = Composition<compositions::yoshida6, Lgvi, P>;
 /// lgvi_kahan_li6: the LGVI composed with compositions::kahan_li6 (order 6, 9 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using LgviKahanLi6 = Composition<compositions::kahan_li6, Lgvi, P>;
 /// lgvi_yoshida8: the LGVI composed with compositions::yoshida8 (order 8, 15 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using LgviYoshida8 = Composition<compositions::yoshida8, Lgvi, P>;
 /// lgvi_kahan_li8: the LGVI composed with compositions::kahan_li8 (order 8, 17 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using LgviKahanLi8 = Composition<compositions::kahan_li8, Lgvi, P>;
 /// lgvi_sofroniou_spaletta10: the LGVI composed with compositions::sofroniou_spaletta10 (order 10, 35 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using LgviSofroniouSpaletta10 = Composition<compositions::sofroniou_spaletta10, Lgvi, P>;
 
 /// Compositions of kick + DMV (splitting.hpp; scene names `split_dmv_<coefficients>`): the same maps as the
 /// LGVI's compositions (kick + DMV is the LGVI's map, NUMERICS.md), at the cost of the fast fixed-point
 /// DMV step in principal axes — the cheap high-order heavy-top methods.
 /// split_dmv_yoshida4: kick + DMV composed with compositions::yoshida4 (order 4, 3 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using SplitDmvYoshida4 = Composition<compositions::yoshida4, SplitDmv, P>;
 /// split_dmv_suzuki4: kick + DMV composed with compositions::suzuki4 (order 4, 5 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using SplitDmvSuzuki4 = Composition<compositions::suzuki4, SplitDmv, P>;
 /// split_dmv_kahan_li6: kick + DMV composed with compositions::kahan_li6 (order 6, 9 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using SplitDmvKahanLi6 = Composition<compositions::kahan_li6, SplitDmv, P>;
 /// split_dmv_kahan_li8: kick + DMV composed with compositions::kahan_li8 (order 8, 17 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using SplitDmvKahanLi8 = Composition<compositions::kahan_li8, SplitDmv, P>;
 /// split_dmv_sofroniou_spaletta10: kick + DMV composed with compositions::sofroniou_spaletta10 (order 10, 35 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using SplitDmvSofroniouSpaletta10 = Composition<compositions::sofroniou_spaletta10, SplitDmv, P>;
 
 /// Compositions of the Lagrange top's splitting around the exact symmetric free flow (lagrange_split.hpp;
@@ -353,17 +353,17 @@ using SplitDmvSofroniouSpaletta10 = Composition<compositions::sofroniou_spaletta
 /// peers, by an order of magnitude (benchmarks/work_precision; docs/performance.md, docs/benchmarks.md).
 /// Symplectic and symmetric; m_ψ kept bit for bit (no sub-step touches Π3).
 /// lagrange_split_yoshida4: the Lagrange split composed with compositions::yoshida4 (order 4, 3 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using LagrangeSplitYoshida4 = Composition<compositions::yoshida4, LagrangeSplit, P>;
 /// lagrange_split_kahan_li6: the Lagrange split composed with compositions::kahan_li6 (order 6, 9 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using LagrangeSplitKahanLi6 = Composition<compositions::kahan_li6, LagrangeSplit, P>;
 /// lagrange_split_kahan_li8: the Lagrange split composed with compositions::kahan_li8 (order 8, 17 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using LagrangeSplitKahanLi8 = Composition<compositions::kahan_li8, LagrangeSplit, P>;
 /// lagrange_split_sofroniou_spaletta10: the Lagrange split composed with compositions::sofroniou_spaletta10
 /// (order 10, 35 stages).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using LagrangeSplitSofroniouSpaletta10 = Composition<compositions::sofroniou_spaletta10, LagrangeSplit, P>;
 
 }  // namespace lgi

@@ -385,14 +385,14 @@ class EmbeddedRk {
       if constexpr (reduced)
         M = problem_.reduced_torque(embedding::rotate_back(q, Vec3<Scalar>(problem_.reduced_axis())));
       else if constexpr (P::has_torque)
-        M = body_torque(problem_, t, embedding::rotation_of(q));
+        M = body_torque(problem_, t, embedding::rotation_of(q), W);
     } else {
       const Mat3<Scalar> R = Eigen::Map<const Mat3<Scalar>>(y.data());
       Eigen::Map<Mat3<Scalar>>(d.data()) = R * so3::hat(W);
       if constexpr (reduced)
         M = problem_.reduced_torque(Vec3<Scalar>(R.transpose() * problem_.reduced_axis()));
       else if constexpr (P::has_torque)
-        M = body_torque(problem_, t, R);
+        M = body_torque(problem_, t, R, W);
     }
     d.template tail<3>() = J_.solve(Vec3<Scalar>(J_.apply(W).cross(W) + M));
     return d;

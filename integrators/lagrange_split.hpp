@@ -77,14 +77,14 @@ namespace lgi {
 /// A problem that declares `static constexpr bool axisymmetric = true`: J = diag(I1, I1, I3) and a torque that
 /// commutes with turns about e3 (M3 ≡ 0), as LagrangeTop does.
 template <class P>
-concept AxisymmetricProblem = RigidBodyProblem<P> && requires {
+concept AxisymmetricProblem = AttitudeTorqueProblem<P> && requires {
   { P::axisymmetric } -> std::convertible_to<bool>;
   requires P::axisymmetric;
 };
 
 /// The splitting of an axisymmetric top around the exact symmetric free flow (this header) as a Stepper on problem
 /// P: explicit, symmetric, symplectic, order 2, m_ψ kept exactly. Only an AxisymmetricProblem can construct one.
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 class LagrangeSplit {
  public:
   using Problem = P;                  ///< the problem type

@@ -37,6 +37,10 @@
 /// Moser–Veselov algorithm (RATTLE; HLW Remark VII.5.2): a steady rotation about a principal axis with
 /// rate ω advances by asin(hω) per step, not hω — DMV's error is a time reparametrisation (McLachlan &
 /// Zanna, FoCM 5 (2005) 87).
+///
+/// Torques M(t, R) only (AttitudeTorqueProblem, core/problem.hpp): M_{k+1} is a function of R_{k+1} alone, which
+/// keeps the step explicit after F_k. A torque that reads Ω (damping, feedback) is taken by the explicit methods
+/// (rkmk.hpp, commutator_free.hpp, embedding.hpp).
 #pragma once
 
 #include "../core/state_io.hpp"
@@ -54,7 +58,7 @@ namespace lgi {
 
 /// The LGVI (this header) as a Stepper on problem P: implicit, order 2, symplectic, symmetric; it steps (R, Π) and
 /// keeps the torque for the next step's first kick.
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 class Lgvi {
  public:
   using Problem = P;                    ///< the problem type

@@ -61,10 +61,10 @@
 
 namespace lgi {
 
-/// Problems whose energy is conserved: no time-dependent torque.
+/// Problems whose energy is conserved: no time-dependent torque, no torque that reads Ω.
 template <class P>
 concept ProjectableProblem =
-    RigidBodyProblem<P> &&
+    AttitudeTorqueProblem<P> &&
     !requires(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R) { p.torque(t, R); };
 
 /// Steppers whose result Projected can correct: not symplectic, with Ω in their internal coordinates, or

@@ -451,7 +451,7 @@ class Rkmk {
       if constexpr (reduced)
         K[0].template tail<3>() = acceleration(x.Omega, reduced_torque<Pr>(Gamma));
       else if constexpr (P::has_torque)
-        K[0].template tail<3>() = acceleration(x.Omega, body_torque(problem_, t, x.R));
+        K[0].template tail<3>() = acceleration(x.Omega, body_torque(problem_, t, x.R, x.Omega));
       else
         K[0].template tail<3>() = acceleration(x.Omega);
     } else {
@@ -474,7 +474,7 @@ class Rkmk {
           K[I].template tail<3>() = acceleration(W, reduced_torque<Pr>(Gamma_i));
         } else if constexpr (P::has_torque) {
           const Mat3<Scalar> R = x.R * so3::cayley(u);
-          K[I].template tail<3>() = acceleration(W, body_torque(problem_, t + Scalar(Tableau.c[I]) * h, R));
+          K[I].template tail<3>() = acceleration(W, body_torque(problem_, t + Scalar(Tableau.c[I]) * h, R, W));
         } else {
           K[I].template tail<3>() = acceleration(W);
         }
@@ -486,7 +486,7 @@ class Rkmk {
         K[I].template tail<3>() = acceleration(W, reduced_torque<Pr>(so3::rotate(u, Scalar(-k.A), k.B, Gamma)));
       } else if constexpr (P::has_torque) {
         const Mat3<Scalar> R = x.R * so3::exp(u);
-        K[I].template tail<3>() = acceleration(W, body_torque(problem_, t + Scalar(Tableau.c[I]) * h, R));
+        K[I].template tail<3>() = acceleration(W, body_torque(problem_, t + Scalar(Tableau.c[I]) * h, R, W));
       } else {
         K[I].template tail<3>() = acceleration(W);
       }

@@ -33,7 +33,7 @@ namespace lgi {
 
 /// kick(h/2) ∘ exact free body(h) ∘ kick(h/2) (this header) as a Stepper on problem P: explicit, symmetric,
 /// symplectic, order 2 (exact on the free body). Floating-point scalars only (Boost's elliptic integrals).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
   requires std::is_floating_point_v<typename P::Scalar>
 class SplitExact {
  public:

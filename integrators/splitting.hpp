@@ -35,6 +35,10 @@
 ///
 /// Non-diagonal J: the state is carried in principal axes (PrincipalAxes: Eigen's eigensolver in double,
 /// first-order perturbation for Jets); to_internal/to_state convert at the edges of a run.
+///
+/// Torques M(t, R) only (AttitudeTorqueProblem, core/problem.hpp): a kick holds R fixed and adds h·M(t, R) to the
+/// momentum, which needs a torque that does not change with Ω during the kick. So do the compositions of these
+/// splittings and of the LGVI (composition.hpp), split_exact.hpp and lagrange_split.hpp.
 #pragma once
 
 #include "../core/state_io.hpp"
@@ -133,7 +137,7 @@ template <class S>
 
 /// The Strang splitting kick(h/2) ∘ Flow(h) ∘ kick(h/2) (this header) as a Stepper on problem P: explicit or
 /// implicit as its Flow, order 2 with a torque, symmetric. The aliases below name the methods.
-template <class Flow, RigidBodyProblem P>
+template <class Flow, AttitudeTorqueProblem P>
 class Splitting {
  public:
   using Problem = P;                  ///< the problem type
@@ -305,22 +309,22 @@ class Splitting {
 };
 
 /// split_axes: kicks + five principal-axis rotations (explicit, symplectic, order 2).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using SplitAxes = Splitting<AxisRotations<typename P::Scalar>, P>;
 /// split_dmv: kicks + the discrete Moser–Veselov flow (the LGVI's map; symplectic, order 2).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using SplitDmv = Splitting<Dmv<typename P::Scalar>, P>;
 /// split_dmv4: kicks + the preprocessed DMV of order 4 on the free body (order 2 with a torque).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using SplitDmv4 = Splitting<PreprocessedDmv<typename P::Scalar, 2>, P>;
 /// split_dmv6: kicks + the preprocessed DMV of order 6 on the free body (order 2 with a torque).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using SplitDmv6 = Splitting<PreprocessedDmv<typename P::Scalar, 3>, P>;
 /// split_dmv8: kicks + the preprocessed DMV of order 8 on the free body (order 2 with a torque).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using SplitDmv8 = Splitting<PreprocessedDmv<typename P::Scalar, 4>, P>;
 /// split_dmv10: kicks + the preprocessed DMV of order 10 on the free body (order 2 with a torque).
-template <RigidBodyProblem P>
+template <AttitudeTorqueProblem P>
 using SplitDmv10 = Splitting<PreprocessedDmv<typename P::Scalar, 5>, P>;
 
 }  // namespace lgi

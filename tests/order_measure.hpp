@@ -52,8 +52,8 @@ std::vector<State<L>> rk4_embedding_long_double_track(const P& problem, const St
     Mat3<L> R;
     Vec3<L> W;
   };
-  const auto f = [&](const Y& y) {
-    const Vec3<L> rhs = (J * y.W).cross(y.W) + body_torque(p, L(0), y.R);
+  const auto f = [&](const L& t, const Y& y) {
+    const Vec3<L> rhs = (J * y.W).cross(y.W) + body_torque(p, t, y.R, y.W);
     return Y{y.R * so3::hat(y.W), J_inv * rhs};
   };
   const auto axpy = [](const Y& y, L a, const Y& k) { return Y{y.R + a * k.R, y.W + a * k.W}; };
@@ -61,7 +61,9 @@ std::vector<State<L>> rk4_embedding_long_double_track(const P& problem, const St
   const L h = L(T) / n;
   std::vector<State<L>> out;
   for (int i = 0; i < n; ++i) {
-    const Y k1 = f(y), k2 = f(axpy(y, h / 2, k1)), k3 = f(axpy(y, h / 2, k2)), k4 = f(axpy(y, h, k3));
+    const L t = L(T) * i / n;
+    const Y k1 = f(t, y), k2 = f(t + h / 2, axpy(y, h / 2, k1)), k3 = f(t + h / 2, axpy(y, h / 2, k2)),
+            k4 = f(t + h, axpy(y, h, k3));
     y.R += (h / 6) * (k1.R + 2 * k2.R + 2 * k3.R + k4.R);
     y.W += (h / 6) * (k1.W + 2 * k2.W + 2 * k3.W + k4.W);
     if ((i + 1) % (n / M) == 0) out.push_back({y.R, y.W});
@@ -85,12 +87,12 @@ State<L> rk4_quaternion_long_double(const P& problem, const State<double>& x0, d
     const Eigen::Matrix<L, 4, 1> q = y.template head<4>() / y.template head<4>().norm();
     return embedding::rotation_of(q);
   };
-  const auto f = [&](const V7& y) {
+  const auto f = [&](const L& t, const V7& y) {
     const Vec3<L> v = y.template segment<3>(1), W = y.template tail<3>();
     V7 d;
     d(0) = -v.dot(W) / 2;
     d.template segment<3>(1) = (y(0) * W + v.cross(W)) / 2;
-    d.template tail<3>() = J_inv * Vec3<L>((J * W).cross(W) + body_torque(p, L(0), rotation(y)));
+    d.template tail<3>() = J_inv * Vec3<L>((J * W).cross(W) + body_torque(p, t, rotation(y), W));
     return d;
   };
   V7 y;
@@ -98,7 +100,9 @@ State<L> rk4_quaternion_long_double(const P& problem, const State<double>& x0, d
   y.template tail<3>() = x0.Omega.cast<L>();
   const L h = L(T) / n;
   for (int i = 0; i < n; ++i) {
-    const V7 k1 = f(y), k2 = f(V7(y + (h / 2) * k1)), k3 = f(V7(y + (h / 2) * k2)), k4 = f(V7(y + h * k3));
+    const L t = L(T) * i / n;
+    const V7 k1 = f(t, y), k2 = f(t + h / 2, V7(y + (h / 2) * k1)), k3 = f(t + h / 2, V7(y + (h / 2) * k2)),
+             k4 = f(t + h, V7(y + h * k3));
     y += (h / 6) * (k1 + 2 * k2 + 2 * k3 + k4);
   }
   return {rotation(y), y.template tail<3>()};

@@ -125,7 +125,7 @@ double distance(const State<T>& a, const State<T>& b) {
 
 // ---- the reference: Gragg–Bulirsch–Stoer extrapolation on the embedding ---------------------------------
 //
-// The rigid body in R^{3×3} × R³ (all nine entries of R and Ω, R' = R hat(Ω), JΩ' = (JΩ) × Ω + M(R): the
+// The rigid body in R^{3×3} × R³ (all nine entries of R and Ω, R' = R hat(Ω), JΩ' = (JΩ) × Ω + M(t, R, Ω): the
 // equations of tests/order_measure.hpp's long-double RK4 reference), integrated by Gragg's explicit midpoint
 // rule with Aitken–Neville extrapolation in h² (Hairer, Nørsett, Wanner, Solving ODEs I, 2nd ed., §II.9):
 // macro steps H = T/M; in each, the midpoint rule with n_j substeps, n = 2, 4, 6, 8, 12, 16, 24, 32, 48, 64,
@@ -143,12 +143,12 @@ State<T> gbs_embedding(const P& problem, const State<double>& x0, double t_end, 
   const Mat3<T> J = p.inertia;
   const Mat3<T> J_inv = J.inverse();
   using V = Eigen::Matrix<T, 12, 1>;
-  const auto f = [&](const V& y) {
+  const auto f = [&](const T& t, const V& y) {
     const Mat3<T> R = Eigen::Map<const Mat3<T>>(y.data());
     const Vec3<T> W = y.template tail<3>();
     V d;
     Eigen::Map<Mat3<T>>(d.data()) = R * so3::hat(W);
-    d.template tail<3>() = J_inv * Vec3<T>((J * W).cross(W) + body_torque(p, T(0), R));
+    d.template tail<3>() = J_inv * Vec3<T>((J * W).cross(W) + body_torque(p, t, R, W));
     return d;
   };
   V y;
@@ -157,13 +157,14 @@ State<T> gbs_embedding(const P& problem, const State<double>& x0, double t_end, 
   const T H = T(t_end) / macro_steps;
   std::vector<V> table(static_cast<std::size_t>(k));  // table[m]: the column-(j − m) value of row j
   for (int s = 0; s < macro_steps; ++s) {
-    const V f0 = f(y);
+    const T t0 = H * s;
+    const V f0 = f(t0, y);
     for (int j = 0; j < k; ++j) {
       const int n = sequence[j];
       const T h = H / n;
       V z0 = y, z1 = y + h * f0;
       for (int i = 1; i < n; ++i) {
-        const V z2 = z0 + (T(2) * h) * f(z1);
+        const V z2 = z0 + (T(2) * h) * f(t0 + h * i, z1);
         z0 = z1;
         z1 = z2;
       }

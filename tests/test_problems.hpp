@@ -10,7 +10,9 @@
 #include <lgi/core/state.hpp>
 #include <lgi/problems/heavy_top.hpp>
 
+#include <array>
 #include <cmath>
+#include <string_view>
 #include <vector>
 
 namespace lgi::test {
@@ -33,6 +35,51 @@ inline State<double> skew_initial_state() {
 }
 
 // The Hairer–Vilmart initial state: m0 = JΩ0 = (1.8, 0.4, −0.9), R0 = I (NUMERICS.md).
+// A torque that reads Ω and t (core/problem.hpp, StateTorqueProblem): a heavy top with linear damping and a periodic body-frame drive:
+//   M(t, R, Ω) = b (Rᵀk) × z0 − C Ω + a sin(w t),
+// C symmetric positive semi-definite. Energy E = ½ Ω·JΩ + b k·(R z0); dE/dt = Ω·(a sin(w t) − C Ω).
+template <class T = double>
+struct DrivenDampedTop {
+  using Scalar = T;
+  static constexpr std::string_view name = "driven_damped_top";
+  static constexpr bool has_torque = true;
+
+  HeavyTop<T> top;
+  Mat3<T> inertia = top.inertia;
+  Mat3<T> C = Mat3<T>::Zero();
+  Vec3<T> a = Vec3<T>::Zero();
+  T w = T(0);
+
+  T potential(const Mat3<T>& R) const { return top.potential(R); }
+  Vec3<T> torque(const T& t, const Mat3<T>& R, const Vec3<T>& Omega) const {
+    using std::sin;
+    return top.torque(R) - C * Omega + a * sin(w * t);
+  }
+  /// Ω·M_nc, the power of the non-conservative part.
+  T power(const T& t, const Vec3<T>& Omega) const {
+    using std::sin;
+    return Omega.dot(Vec3<T>(a * sin(w * t) - C * Omega));
+  }
+  static constexpr std::array<std::string_view, 0> invariant_names{};
+  std::array<T, 0> invariants(const State<T>&) const { return {}; }
+  template <class S>
+  DrivenDampedTop<S> cast() const {
+    return {top.template cast<S>(), inertia.template cast<S>(), C.template cast<S>(), a.template cast<S>(), S(w)};
+  }
+};
+
+inline DrivenDampedTop<double> driven_damped_skew_top() {
+  DrivenDampedTop<double> p;
+  p.top = skew_heavy_top();
+  p.inertia = p.top.inertia;
+  p.C << 0.30, 0.05, 0.00,  //
+      0.05, 0.20, 0.02,     //
+      0.00, 0.02, 0.10;
+  p.a = Vec3<double>(0.4, -0.3, 0.2);
+  p.w = 3.0;
+  return p;
+}
+
 template <class P>
 State<double> hairer_vilmart_state(const P& p) {
   return {Mat3<double>::Identity(), p.inertia.inverse() * Vec3<double>(1.8, 0.4, -0.9)};
@@ -50,7 +97,7 @@ State<double> reference_solution(const P& problem, const State<double>& x0, doub
     Vec3<L> W;
   };
   const auto f = [&](const Y& y) {
-    Vec3<L> rhs = (J * y.W).cross(y.W) + body_torque(p, L(0), y.R);
+    Vec3<L> rhs = (J * y.W).cross(y.W) + body_torque(p, L(0), y.R, y.W);
     return Y{y.R * so3::hat(y.W), J_inv * rhs};
   };
   const auto axpy = [](const Y& y, L a, const Y& k) { return Y{y.R + a * k.R, y.W + a * k.W}; };

@@ -198,6 +198,23 @@ TEST(QuadOrder, Vern9CayleyOnTheSkewHeavyTop) {
   EXPECT_NEAR(fit.order, 9.0, 0.2);
 }
 
+// A torque that reads Ω and t (tests/test_problems.hpp: the skew top damped by −CΩ and driven by a sin(w t)), in 50
+// digits. (The long-double fit of tests/integrators/test_state_torque.cpp sees 9.99, its h¹⁰ terms; in binary128
+// over the skew top's window, 1e-20 … 1e-28, the local slopes rise from below, 8.60 → 8.92, e/h⁹ still growing by
+// 2 % a point: a fit of 8.77. So the window here is the GNI body's, 1e-26 … 1e-36: 8.955, local slopes 8.88 → 8.98,
+// e/h⁹ settling at 7.7e-7; the reference's two runs 1.4e-41 apart.)
+TEST(QuadOrder, Vern9CayleyOnTheDrivenDampedTop) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto p = test::driven_damped_skew_top();
+  const Reference<Wide> ref = test::quad::make_reference<Wide>(p, test::skew_initial_state(), 2.0, 20);
+  EXPECT_LT(ref.error, 1e-40);
+  const Fit fit = test::quad::observed_order<Vern9CayleyWide>(p, test::skew_initial_state(), 2.0, ref, 1e-26, 1e-36,
+                                                              12, 9, "rkmk_vern9_cayley driven damped top (50 digits)",
+                                                              250);
+  std::printf("(%.2f s)\n", seconds_since(t0));
+  EXPECT_NEAR(fit.order, 9.0, 0.2);
+}
+
 // The GNI free body in 50 digits. The window starts at errors ≤ 1e-26, where the h⁹ term carries ≥ 3/4 of the
 // error (e/h⁹ = 3.70e-9 at h = 0.01 against its limit ≈ 2.84e-9), and runs to 1e-36: 9.096, local slopes 9.30 →
 // 9.02. The reference (GBS in 50 digits, two runs 5e-46 apart) and the coefficients (order conditions to 3e-40)
