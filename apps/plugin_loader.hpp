@@ -8,7 +8,9 @@
 #include <cstdint>
 #include <string>
 
-// The build this code is compiled for: lgi's version, the compiler, the C++ library's ABI, and FMA contraction (a
+// The build this code is compiled for: lgi's version, the revision of the plugin interface (ProblemInfo and
+// ProblemModel in registry.hpp: raise LGI_PLUGIN_INTERFACE whenever either changes, so that a plugin built before
+// is refused instead of called through another layout), the compiler, the C++ library's ABI, and FMA contraction (a
 // plugin compiled with -march=native would contract a·b + c and change the last bits).
 #define LGI_STRINGIZE2(x) #x
 #define LGI_STRINGIZE(x) LGI_STRINGIZE2(x)
@@ -17,9 +19,11 @@
 #else
 #define LGI_BUILD_FMA "no-fma"
 #endif
+#define LGI_PLUGIN_INTERFACE 2
 #ifndef LGI_PLUGIN_BUILD_ID
 #define LGI_PLUGIN_BUILD_ID                                                                                      \
-  "lgi " LGI_VERSION_STRING "; " __VERSION__ "; cxx11-abi " LGI_STRINGIZE(_GLIBCXX_USE_CXX11_ABI) "; " LGI_BUILD_FMA
+  "lgi " LGI_VERSION_STRING "; plugin interface " LGI_STRINGIZE(LGI_PLUGIN_INTERFACE) "; " __VERSION__          \
+  "; cxx11-abi " LGI_STRINGIZE(_GLIBCXX_USE_CXX11_ABI) "; " LGI_BUILD_FMA
 #endif
 
 namespace lgi::app {

@@ -41,6 +41,7 @@ class ProblemModelOf final : public ProblemModel {
     if constexpr (RigidBodyProblem<P>) return !P::has_torque;
     else return false;
   }
+  bool reads_omega() const override { return StateTorqueProblem<P>; }
   bool projectable() const override { return ProjectableProblem<P>; }
   BodyData body() const override {
     if constexpr (CoordinateProblem<P>) return body_of(problem_.heavy_top());  // the same top on SO(3)
@@ -95,7 +96,11 @@ ProblemInfo problem_info(std::string_view summary, std::vector<std::string_view>
                        return std::make_shared<ProblemModelOf<P>>(Parse(node));
                      },
                      applicable_methods<P>(),
-                     RigidBodyProblem<P>};
+                     RigidBodyProblem<P>,
+                     StateTorqueProblem<P> ? std::string_view("its torque reads the angular velocity, and the "
+                                                              "variational integrator, the splittings and their "
+                                                              "compositions need a torque of the attitude alone")
+                                           : std::string_view()};
 }
 
 }  // namespace lgi::app

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <string>
 #include <utility>
 
@@ -173,5 +174,25 @@ bool method_applies(std::string_view method, std::string_view problem) {
 
 std::string known_methods(std::string_view problem) { return join_names(method_registry(), problem); }
 std::string known_problems() { return join_names(problem_registry()); }
+
+// "unit" of an angle: "rad" (the default) or "deg"; returns the factor to radians.
+double read_angle_unit(const std::optional<Node>& unit) {
+  if (!unit) return 1;
+  const std::string u = unit->string();
+  if (u == "rad") return 1;
+  if (u == "deg") return std::numbers::pi / 180;
+  unit->fail("unknown unit " + quoted_input(u) + did_you_mean(u, {"rad", "deg"}) + " (known: rad, deg)");
+}
+
+// "axis_angle": {"axis": [x, y, z] (any length but 0), "angle": θ, "unit": "rad" | "deg"}.
+Mat3<double> read_axis_angle(const Node& node) {
+  if (!node.is_object()) node.fail("expected {\"axis\": [x, y, z], \"angle\": ...}, got " + describe(node.value()));
+  node.allow_only({"axis", "angle", "unit"}, "axis_angle");
+  const Node axis_node = node.at("axis");
+  const Vec3<double> axis = axis_node.vec3();
+  if (!(axis.norm() > 0)) axis_node.fail("must not be zero");
+  const double angle = node.at("angle").number() * read_angle_unit(node.find("unit"));
+  return rotation_from_axis_angle(axis, angle);
+}
 
 }  // namespace lgi::app

@@ -108,6 +108,7 @@ class ProblemModel {
   virtual std::size_t integral_count() const = 0;
   virtual bool on_group() const = 0;     // its state is on SO(3) × R³ (integrator options apply)
   virtual bool torque_free() const = 0;  // no torque: methods of higher order on free bodies show that order
+  virtual bool reads_omega() const = 0;  // its torque reads Ω (damping, control): the energy changes by their work
   virtual bool projectable() const = 0;  // "projection": true is accepted (integrators/projection.hpp)
   virtual BodyData body() const = 0;
   // The scene's method on this problem and its rows (runner_detail.hpp).
@@ -132,6 +133,7 @@ struct ProblemInfo {
   std::shared_ptr<const ProblemModel> (*parse)(const Node& problem);
   std::vector<std::string_view> methods;  // the methods that apply to it, in the method table's order
   bool on_group = true;                   // its state is on SO(3) × R³
+  std::string_view methods_note = {};     // why some methods do not apply (said when a scene names one of them)
 };
 
 struct MethodInfo {
@@ -175,6 +177,10 @@ Vec3<double> read_unit_vector(const Node& node);
 Mat3<double> read_rotation(const Node& node);
 // A quaternion [w, x, y, z] (see above), returned as its rotation (core/attitude.hpp).
 Mat3<double> read_quaternion(const Node& node);
+// "unit" of an angle: "rad" (the default) or "deg"; returns the factor to radians.
+double read_angle_unit(const std::optional<Node>& unit);
+// {"axis": [x, y, z] (any length but 0), "angle": θ, "unit": "rad" | "deg"}, returned as its rotation.
+Mat3<double> read_axis_angle(const Node& node);
 // A body-frame inertia tensor that must be diagonal (principal axes: the library's tops are written in them);
 // `why` is said when it is not. Returns the principal moments.
 Vec3<double> read_principal_inertia(const Node& node, std::string_view why);

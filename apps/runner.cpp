@@ -233,7 +233,9 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
   else
     std::snprintf(buf, sizeof buf, "\n");
   s += buf;
-  s += "  energy error     " + relative(r.energy_initial, r.energy_final) + " (relative)\n";
+  // A torque that reads Ω does work: the energy's change is the motion, not an error.
+  s += (scene.problem->reads_omega() ? "  energy change    " : "  energy error     ") +
+       relative(r.energy_initial, r.energy_final) + " (relative)\n";
   for (const auto& inv : r.invariants)
     s += "  " + inv.name + std::string(inv.name.size() < 16 ? 16 - inv.name.size() : 1, ' ') + " " +
          relative(inv.initial, inv.final) + " (relative change)\n";

@@ -57,15 +57,6 @@ constexpr OptionReader option_readers[] = {
      }},
 };
 
-// "unit" of an angle: "rad" (the default) or "deg"; returns the factor to radians.
-double read_angle_unit(const std::optional<Node>& unit) {
-  if (!unit) return 1;
-  const std::string u = unit->string();
-  if (u == "rad") return 1;
-  if (u == "deg") return std::numbers::pi / 180;
-  unit->fail("unknown unit " + quoted_input(u) + did_you_mean(u, {"rad", "deg"}) + " (known: rad, deg)");
-}
-
 // "euler_angles": [φ, θ, ψ] (the seed paper's z-x-z, radians) or {"convention": "zxz" | "zyx", "angles": [...],
 // "unit": "rad" | "deg"} (core/attitude.hpp).
 struct EulerAngles {
@@ -95,17 +86,6 @@ EulerAngles read_euler_angles(const Node& node) {
   e.to_radians = read_angle_unit(node.find("unit"));
   e.angles = node.at("angles").vec3() * e.to_radians;
   return e;
-}
-
-// "axis_angle": {"axis": [x, y, z] (any length but 0), "angle": θ, "unit": "rad" | "deg"}.
-Mat3<double> read_axis_angle(const Node& node) {
-  if (!node.is_object()) node.fail("expected {\"axis\": [x, y, z], \"angle\": ...}, got " + describe(node.value()));
-  node.allow_only({"axis", "angle", "unit"}, "axis_angle");
-  const Node axis_node = node.at("axis");
-  const Vec3<double> axis = axis_node.vec3();
-  if (!(axis.norm() > 0)) axis_node.fail("must not be zero");
-  const double angle = node.at("angle").number() * read_angle_unit(node.find("unit"));
-  return rotation_from_axis_angle(axis, angle);
 }
 
 }  // namespace
@@ -178,8 +158,10 @@ Scene parse_scene(const json& document, const std::string& file) {
     std::string types;
     for (const ProblemInfo& p : problem_registry())
       if (method_applies(method, p.name)) types += (types.empty() ? "" : ", ") + std::string(p.name);
-    integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type + "; it applies to " +
-                                 types + " (methods that apply to " + type + ": " + known_methods(type) + ")");
+    const std::string why = info->methods_note.empty() ? "" : " (" + std::string(info->methods_note) + ")";
+    integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type + why +
+                                 "; it applies to " + types + " (methods that apply to " + type + ": " +
+                                 known_methods(type) + ")");
   }
   std::vector<std::string_view> keys = {"method", "dt"};
   // A problem whose state is not on SO(3) runs the method's tableau with fixed steps (problems/euler_angle_methods.hpp).
@@ -220,7 +202,11 @@ Scene parse_scene(const json& document, const std::string& file) {
   if ((scene.options.rtol > 0) != (scene.options.atol > 0))
     integrator.fail("an adaptive run needs both \"rtol\" and \"atol\" (fixed steps: neither)");
   if (scene.options.projection && !scene.problem->projectable())
-    integrator.at("projection").fail("problem " + type + " has a time-dependent torque: no energy to project onto");
+    integrator.at("projection").fail("problem " + type +
+                                     (scene.problem->reads_omega()
+                                          ? "'s torque reads the angular velocity (damping, control): its energy is "
+                                            "not conserved, nothing to project onto"
+                                          : " has a time-dependent torque: no energy to project onto"));
 
   // t_end and the number of steps it implies
   const Node t_end = root.at("t_end");

@@ -67,6 +67,17 @@ const std::string satellite = R"({
 }
 )";
 
+const std::string rigid_body = R"({
+  "problem": {"type": "rigid_body", "inertia": [1, 2, 3], "gravity": {"b": 1, "k": [0, 0, 1], "z0": [0, 0, 1]},
+              "torques": [{"type": "damping", "coefficient": 0.1},
+                          {"type": "constant", "frame": "lab", "torque": [0, 0, 0.5]},
+                          {"type": "attitude_control", "target": {"quaternion": [1, 0, 0, 0]}, "k_R": 2, "k_Omega": 1}]},
+  "initial": {"omega": [0.1, 0.2, 1]},
+  "integrator": {"method": "rkmk4", "dt": 0.01},
+  "t_end": 0.1
+}
+)";
+
 const std::string lagrange = R"({
   "problem": {"type": "lagrange_top", "inertia": [2, 2, 1], "b": 1, "k": [0, 0.6, 0.8]},
   "initial": {"omega": [0.1, 0.2, 5]},
@@ -343,6 +354,43 @@ std::vector<Case> cases() {
       {"radial_not_perpendicular", edit(satellite, "\"radial\": [1, 0, 0]", "\"radial\": [0, 0.6, 0.8]"),
        "lgi: error: {file}: /problem/radial: the radial direction must be perpendicular to the orbit "
        "normal (to 1e-9), radial . normal = 0.8"},
+      {"damping_negative", edit(rigid_body, "\"coefficient\": 0.1", "\"coefficient\": -0.1"),
+       "lgi: error: {file}: /problem/torques/0/coefficient: must be >= 0, got -0.1"},
+      {"damping_not_symmetric",
+       edit(rigid_body, "\"coefficient\": 0.1", "\"matrix\": [[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]"),
+       "lgi: error: {file}: /problem/torques/0/matrix: the damping matrix must be symmetric (largest |C_ij - C_ji| "
+       "= 0.5)"},
+      {"damping_indefinite",
+       edit(rigid_body, "\"coefficient\": 0.1", "\"matrix\": [[1, 0, 0], [0, -1, 0], [0, 0, 1]]"),
+       "lgi: error: {file}: /problem/torques/0/matrix: the damping matrix must be positive semi-definite (it would "
+       "feed energy in): smallest eigenvalue -1"},
+      {"damping_twice", edit(rigid_body, "\"coefficient\": 0.1", "\"coefficient\": 0.1, \"matrix\": [1, 1, 1]"),
+       "lgi: error: {file}: /problem/torques/0: give the damping once, as a coefficient c (C = c I) or a matrix C"},
+      {"torque_frame_unknown", edit(rigid_body, "\"lab\"", "\"inertial\""),
+       "lgi: error: {file}: /problem/torques/1/frame: unknown frame \"inertial\" (known: body, lab)"},
+      {"torque_term_unknown", edit(rigid_body, "\"type\": \"damping\"", "\"type\": \"dampng\""),
+       "lgi: error: {file}: /problem/torques/0/type: unknown torque term \"dampng\"; did you mean \"damping\"? "
+       "(known: constant, damping, attitude_control)"},
+      {"control_target_not_unit", edit(rigid_body, "[1, 0, 0, 0]", "[1, 0.5, 0, 0]"),
+       "lgi: error: {file}: /problem/torques/2/target/quaternion: must be a unit quaternion (to 0.01), its length is "
+       "1.118033988749895"},
+      {"control_gain_missing", edit(rigid_body, "\"k_R\": 2, ", ""),
+       "lgi: error: {file}: /problem/torques/2: missing key \"k_R\""},
+      {"torques_not_an_array",
+       R"({"problem": {"type": "rigid_body", "inertia": [1, 2, 3], "torques": {"type": "damping"}},
+           "initial": {"omega": [0, 0, 1]}, "integrator": {"method": "rkmk4", "dt": 0.01}, "t_end": 0.1})",
+       "lgi: error: {file}: /problem/torques: expected an array of torque terms, got an object"},
+      {"projection_on_rigid_body", edit(rigid_body, "\"dt\": 0.01", "\"dt\": 0.01, \"projection\": true"),
+       "lgi: error: {file}: /integrator/projection: problem rigid_body's torque reads the angular velocity (damping, "
+       "control): its energy is not conserved, nothing to project onto"},
+      {"variational_method_on_rigid_body", edit(rigid_body, "\"rkmk4\"", "\"lgvi\""),
+       "lgi: error: {file}: /integrator/method: method \"lgvi\" does not apply to problem rigid_body (its torque "
+       "reads the angular velocity, and the variational integrator, the splittings and their compositions need a "
+       "torque of the attitude alone); it applies to free_body, heavy_top, lagrange_top, kovalevskaya_top, "
+       "satellite, potential (methods that apply to rigid_body: rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, "
+       "rkmk_dp5, rkmk_dp8, rkmk_vern9, rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, rkmk_vern9_cayley, rk4_quat, "
+       "rk4_quat_renorm, rk4_mat, rk4_mat_renorm, dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, "
+       "cf4, cg3)"},
       {"lagrange_not_symmetric", edit(lagrange, "[2, 2, 1]", "[2, 3, 1]"),
        "lgi: error: {file}: /problem/inertia: a Lagrange top has I1 = I2 (symmetry axis e3), got I1 "
        "= 2, I2 = 3"},
@@ -394,10 +442,11 @@ std::vector<Case> cases() {
        "all 47)"},
       {"problem_misspelt", edit(h, "\"heavy_top\"", "\"heavytop\""),
        "lgi: error: {file}: /problem/type: unknown problem type \"heavytop\"; did you mean \"heavy_top\"? (known: "
-       "free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, lagrange_top_euler_angles)"},
+       "free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, rigid_body, "
+       "lagrange_top_euler_angles)"},
       {"unknown_problem", edit(h, "\"heavy_top\"", "\"spinning_plate\""),
        "lgi: error: {file}: /problem/type: unknown problem type \"spinning_plate\" (known: free_body, "
-       "heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, lagrange_top_euler_angles)"},
+       "heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, rigid_body, lagrange_top_euler_angles)"},
       {"method_not_for_problem", edit(h, "\"lgvi\"", "\"lagrange_split\""),
        "lgi: error: {file}: /integrator/method: method \"lagrange_split\" does not apply to problem "
        "heavy_top; it applies to lagrange_top (methods that apply to heavy_top: lgvi, rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, "

@@ -1,5 +1,6 @@
 // The conformance suite: every method the command registers, on a free body, a heavy top with non-diagonal inertia,
-// a time-dependent problem (the satellite) and a Lagrange top, through the engine exactly as `lgi run` builds it
+// a time-dependent problem (the satellite), a Lagrange top and a rigid_body whose torque reads Ω (every torque term
+// of problems/torqued_body.hpp at once: the explicit methods only), through the engine exactly as `lgi run` builds it
 // (the scene's problem → its runner → lgi::Integrator, compiled in lgi_scene with the shipped flags). The cases come
 // from the registry at run time (ProblemInfo::methods): a method is tested by being registered, and a method that
 // is not registered is not tested. For each case:
@@ -69,6 +70,15 @@ constexpr ProblemCase kProblems[] = {
      R"({"omega": [0.2, 1.1, 0.3]})"},
     {"lagrange_top", R"({"type": "lagrange_top", "inertia": [2, 2, 1], "b": 1, "k": [0, 0.6, 0.8]})",
      R"({"omega": [0.1, 0.2, 5]})"},
+    // Every torque term at once: gravity, damping, a laboratory torque and the PD controller (the torque reads Ω).
+    {"rigid_body",
+     R"({"type": "rigid_body", "inertia": [[2, 0.1, 0], [0.1, 2.5, 0.2], [0, 0.2, 1]],
+         "gravity": {"b": 1.3, "k": [0, 0.6, 0.8], "z0": [0.6, 0, 0.8]},
+         "torques": [{"type": "damping", "matrix": [[0.3, 0.05, 0], [0.05, 0.2, 0], [0, 0, 0.1]]},
+                     {"type": "constant", "frame": "lab", "torque": [0.2, -0.1, 0.3]},
+                     {"type": "attitude_control", "target": {"axis_angle": {"axis": [1, 2, 0], "angle": 0.7}},
+                      "target_omega": [0, 0, 0.5], "k_R": 1.5, "k_Omega": 0.4}]})",
+     R"({"omega": [0.3, -0.2, 4]})"},
 };
 
 struct Case {
