@@ -67,8 +67,10 @@ struct TorquedBody {
     if (has_control) V += k_R * (T(3) - (target.transpose() * R).trace()) / T(2);
     return V;
   }
-  /// M(t, R, Ω), body frame (this header's sum; t unused: the terms are autonomous).
-  Vec3<T> torque(const T&, const Mat3<T>& R, const Vec3<T>& Omega) const {
+  /// M(t, R, Ω), body frame (this header's sum; t unused: the terms are autonomous). Not inlined into the steps
+  /// (noinline): one call per stage, for the compile time of the 22 methods' flattened steps, each of which would
+  /// carry every term's code (the cost per step: docs/performance.md, "rigid_body").
+  [[gnu::noinline]] Vec3<T> torque(const T&, const Mat3<T>& R, const Vec3<T>& Omega) const {
     Vec3<T> M = b * Vec3<T>(R.transpose() * k).cross(z0);
     if (has_constant) M += body_torque + R.transpose() * lab_torque;
     if (has_damping) M -= damping * Omega;
