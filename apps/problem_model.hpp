@@ -96,11 +96,7 @@ ProblemInfo problem_info(std::string_view summary, std::vector<std::string_view>
                        return std::make_shared<ProblemModelOf<P>>(Parse(node));
                      },
                      applicable_methods<P>(),
-                     RigidBodyProblem<P>,
-                     StateTorqueProblem<P> ? std::string_view("its torque reads the angular velocity, and the "
-                                                              "variational integrator, the splittings and their "
-                                                              "compositions need a torque of the attitude alone")
-                                           : std::string_view()};
+                     RigidBodyProblem<P>};
 }
 
 }  // namespace lgi::app

@@ -133,7 +133,6 @@ struct ProblemInfo {
   std::shared_ptr<const ProblemModel> (*parse)(const Node& problem);
   std::vector<std::string_view> methods;  // the methods that apply to it, in the method table's order
   bool on_group = true;                   // its state is on SO(3) × R³
-  std::string_view methods_note = {};     // why some methods do not apply (said when a scene names one of them)
 };
 
 struct MethodInfo {

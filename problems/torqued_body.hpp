@@ -77,14 +77,6 @@ struct TorquedBody {
     if (has_control) M -= k_R * attitude_error(R) + k_Omega * rate_error(R, Omega);
     return M;
   }
-  /// Ω·M_nc, the power of the non-conservative terms (dE/dt).
-  T power(const Mat3<T>& R, const Vec3<T>& Omega) const {
-    Vec3<T> M = Vec3<T>::Zero();
-    if (has_constant) M += body_torque + R.transpose() * lab_torque;
-    if (has_damping) M -= damping * Omega;
-    if (has_control) M -= k_Omega * rate_error(R, Omega);
-    return Omega.dot(M);
-  }
   /// e_R = ½ vee(R_dᵀR − RᵀR_d).
   Vec3<T> attitude_error(const Mat3<T>& R) const {
     const Mat3<T> E = target.transpose() * R;
