@@ -210,8 +210,11 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
   const int order = torque_free && m.free_body_order > 0 ? m.free_body_order : m.order;
   char buf[512];
   std::string s;
+  // A forcing that reads Ω does work: the symplectic methods (the LGVI and its compositions) take it in the discrete
+  // Lagrange–d'Alembert form, which is not symplectic.
+  const char* geometry = !m.symplectic ? "" : scene.problem->reads_omega() ? ", forced Lagrange-d'Alembert" : ", symplectic";
   std::snprintf(buf, sizeof buf, "%s: %s, %s (order %d%s%s), dt = %s\n", scene.file.c_str(), problem.c_str(),
-                std::string(m.name).c_str(), order, m.symplectic ? ", symplectic" : "",
+                std::string(m.name).c_str(), order, geometry,
                 euler_angles ? ", Runge-Kutta on the Euler angles" : m.exact_on_group ? ", on SO(3)" : "",
                 format_number(scene.dt).c_str());
   s += buf;

@@ -159,8 +159,8 @@ Scene parse_scene(const json& document, const std::string& file) {
     for (const ProblemInfo& p : problem_registry())
       if (method_applies(method, p.name)) types += (types.empty() ? "" : ", ") + std::string(p.name);
     const std::string why = scene.problem->reads_omega()
-                                ? " (its torque reads the angular velocity, and the variational integrator, the "
-                                  "splittings and their compositions need a torque of the attitude alone)"
+                                ? " (its torque reads the angular velocity, and the splittings and their "
+                                  "compositions need a torque of the attitude alone)"
                                 : "";
     integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type + why +
                                  "; it applies to " + types + " (methods that apply to " + type + ": " +

@@ -23,10 +23,15 @@
 /// ~~~
 /// with energy E = ½ Ω·JΩ + V(R) (invariants.hpp computes it for every problem). Where M = −∂V/∂η + M_nc(t, R, Ω)
 /// (a conservative part and the rest), dE/dt = ∂V/∂t + Ω·M_nc: the work of M_nc is the only change of E. A torque
-/// that reads Ω (damping, feedback control: StateTorqueProblem below) has no potential in general, so the methods
-/// built on one — the variational integrator, the splittings, their compositions, the projection onto energy
-/// levels — do not take it (AttitudeTorqueProblem), and the explicit methods (RKMK, commutator-free, the
-/// baselines) evaluate it at each stage's (t, R, Ω).
+/// that reads Ω (damping, feedback control: StateTorqueProblem below) has no potential in general: the explicit
+/// methods (RKMK, commutator-free, the baselines) evaluate it at each stage's (t, R, Ω), the variational integrator
+/// and its compositions take it as a forcing (discrete Lagrange–d'Alembert, integrators/lgvi.hpp), and the methods
+/// whose kicks hold Ω out of the torque — the splittings, their compositions — and the projection onto energy levels
+/// do not take it (AttitudeTorqueProblem). Optional for such a problem:
+/// ~~~{.unparsed}
+///   Mat3<T> torque_omega_jacobian(const T& t, const Mat3<T>& R, const Vec3<T>& Omega) const;   // ∂M/∂Ω
+/// ~~~
+/// which spares the forced LGVI's Newton its forward differences.
 #pragma once
 
 #include "scalar.hpp"
@@ -67,8 +72,8 @@ concept StateTorqueProblem =
     RigidBodyProblem<P> && requires(const P& p, const typename P::Scalar& t, const Mat3<typename P::Scalar>& R,
                                     const Vec3<typename P::Scalar>& Omega) { p.torque(t, R, Omega); };
 
-/// A problem whose torque is a function of time and attitude only, M(t, R): what the variational integrator and the
-/// splittings need (their kicks hold the attitude fixed and change Ω by the torque of that attitude).
+/// A problem whose torque is a function of time and attitude only, M(t, R): what the splittings need (their kicks
+/// hold the attitude fixed and change Ω by the torque of that attitude).
 template <class P>
 concept AttitudeTorqueProblem = RigidBodyProblem<P> && !StateTorqueProblem<P>;
 

@@ -198,7 +198,7 @@ constexpr JoinedName<N> join(std::string_view a, std::string_view sep, std::stri
 /// The composition of `Base<P>` (a symmetric order-2 stepper) with the coefficient set C. A stepper where `Base<P>`
 /// is one (lagrange_split: axisymmetric problems only), so the registry offers it exactly there; the class
 /// itself exists for any problem, as `Base<P>` does, so that its traits can be read.
-template <const auto& C, template <class> class Base, AttitudeTorqueProblem P>
+template <const auto& C, template <class> class Base, RigidBodyProblem P>
 class Composition {
   using B = Base<P>;
   static_assert(B::traits.order == 2 && B::traits.symmetric,
@@ -306,25 +306,25 @@ class Composition {
 
 /// Compositions of the LGVI (scene names `lgvi_<coefficients>`).
 /// lgvi_yoshida4: the LGVI composed with compositions::yoshida4 (order 4, 3 stages).
-template <AttitudeTorqueProblem P>
+template <RigidBodyProblem P>
 using LgviYoshida4 = Composition<compositions::yoshida4, Lgvi, P>;
 /// lgvi_suzuki4: the LGVI composed with compositions::suzuki4 (order 4, 5 stages).
-template <AttitudeTorqueProblem P>
+template <RigidBodyProblem P>
 using LgviSuzuki4 = Composition<compositions::suzuki4, Lgvi, P>;
 /// lgvi_yoshida6: the LGVI composed with compositions::yoshida6 (order 6, 7 stages).
-template <AttitudeTorqueProblem P>
+template <RigidBodyProblem P>
 using LgviYoshida6 = Composition<compositions::yoshida6, Lgvi, P>;
 /// lgvi_kahan_li6: the LGVI composed with compositions::kahan_li6 (order 6, 9 stages).
-template <AttitudeTorqueProblem P>
+template <RigidBodyProblem P>
 using LgviKahanLi6 = Composition<compositions::kahan_li6, Lgvi, P>;
 /// lgvi_yoshida8: the LGVI composed with compositions::yoshida8 (order 8, 15 stages).
-template <AttitudeTorqueProblem P>
+template <RigidBodyProblem P>
 using LgviYoshida8 = Composition<compositions::yoshida8, Lgvi, P>;
 /// lgvi_kahan_li8: the LGVI composed with compositions::kahan_li8 (order 8, 17 stages).
-template <AttitudeTorqueProblem P>
+template <RigidBodyProblem P>
 using LgviKahanLi8 = Composition<compositions::kahan_li8, Lgvi, P>;
 /// lgvi_sofroniou_spaletta10: the LGVI composed with compositions::sofroniou_spaletta10 (order 10, 35 stages).
-template <AttitudeTorqueProblem P>
+template <RigidBodyProblem P>
 using LgviSofroniouSpaletta10 = Composition<compositions::sofroniou_spaletta10, Lgvi, P>;
 
 /// Compositions of kick + DMV (splitting.hpp; scene names `split_dmv_<coefficients>`): the same maps as the

@@ -38,9 +38,24 @@
 /// rate ω advances by asin(hω) per step, not hω — DMV's error is a time reparametrisation (McLachlan &
 /// Zanna, FoCM 5 (2005) 87).
 ///
-/// Torques M(t, R) only (AttitudeTorqueProblem, core/problem.hpp): M_{k+1} is a function of R_{k+1} alone, which
-/// keeps the step explicit after F_k. A torque that reads Ω (damping, feedback) is taken by the explicit methods
-/// (rkmk.hpp, commutator_free.hpp, embedding.hpp).
+/// Forced (a StateTorqueProblem, core/problem.hpp: damping, feedback control). The discrete Lagrange–d'Alembert
+/// principle (Marsden & West, Acta Numer. 10 (2001) 357, §3.2, eqs. (3.2.1)–(3.2.3)) with the forcing split evenly
+/// between the ends of the step, f_d^∓ = ½ h M_nc (the LGVI with control moments of Lee, Leok & McClamroch, J. Dyn.
+/// Control Syst. 14 (2008) 465, §3, whose control enters the same way), keeps the update above with
+/// M_k = M(t_k, R_k, Ω_k) — the first kick stays explicit — and makes the last one implicit in Π_{k+1}:
+///
+/// ~~~{.unparsed}
+///   Π_{k+1} = Fᵀ (Π_k + ½ h M_k) + ½ h M(t_{k+1}, R_{k+1}, J⁻¹Π_{k+1}),
+/// ~~~
+///
+/// solved by Newton on r(Π) = Π − Fᵀ(Π_k + ½hM_k) − ½hM(…, J⁻¹Π), dr = I − ½h D J⁻¹ with D = ∂M/∂Ω taken from the
+/// problem's torque_omega_jacobian (exact) or by forward differences at the predictor (a chord method: the
+/// solution is the same, the convergence linear with a small ratio), until |r| ≤ tolerance · (|Π| + |½hM|) — one
+/// update for a torque linear in Ω with an exact D. A Jet scalar takes one more update after convergence (two with
+/// forward differences), so that its derivative parts converge as well.
+/// Order 2 and symmetric (the explicit first and implicit last half kick are each other's adjoints). Not
+/// symplectic: the forcing does work. R_{k+1} stays a product of rotations; with M_nc = 0 the step is the
+/// conservative one, bit for bit.
 #pragma once
 
 #include "../core/state_io.hpp"
@@ -56,9 +71,9 @@
 
 namespace lgi {
 
-/// The LGVI (this header) as a Stepper on problem P: implicit, order 2, symplectic, symmetric; it steps (R, Π) and
-/// keeps the torque for the next step's first kick.
-template <AttitudeTorqueProblem P>
+/// The LGVI (this header) as a Stepper on problem P: implicit, order 2, symplectic (unforced), symmetric; it steps
+/// (R, Π) and keeps the torque for the next step's first kick.
+template <RigidBodyProblem P>
 class Lgvi {
  public:
   using Problem = P;                    ///< the problem type
@@ -107,9 +122,12 @@ class Lgvi {
     inv_I_ = J_.J_inv.diagonal();
   }
 
-  /// (R, JΩ, M(t, R)) of x at time t: one torque evaluation.
+  /// (R, JΩ, M(t, R, Ω)) of x at time t: one torque evaluation.
   Internal to_internal(const State<Scalar>& x, const Scalar& t) const {
-    return {x.R, J_.apply(x.Omega), torque(t, x.R)};
+    if constexpr (StateTorqueProblem<P>)
+      return {x.R, J_.apply(x.Omega), body_torque(problem_, t, x.R, x.Omega)};
+    else
+      return {x.R, J_.apply(x.Omega), torque(t, x.R)};
   }
   /// (R, J⁻¹Π) of y.
   State<Scalar> to_state(const Internal& y) const { return {y.R, J_.solve(y.Pi)}; }
@@ -117,6 +135,7 @@ class Lgvi {
   /// One step from t to t + h (h of either sign). not_converged when Newton does not converge within
   /// max_iterations, non_finite when an update or the new state is not finite; y is untouched unless ok. Cost: one
   /// torque, two fixed-point sweeps and the Newton updates (each a 3×3 solve by Cramer's rule); no allocation.
+  /// Forced: the last kick's Newton adds one torque per update (and three for a forward-difference D).
   LGI_FLATTEN StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
     using T = Scalar;
     const T half_h = T(0.5) * h;
@@ -128,8 +147,13 @@ class Lgvi {
     const Mat3<T> dF = so3::rodrigues_increment(c, s, s);  // F − I = s (hat(c) + hat(c)²)
     const Mat3<T> R1 = y.R + y.R * dF;                      // R F, without rounding F's diagonal
     Vec3<T> Pi1 = Pi + dF.transpose() * Pi;                 // Fᵀ Π
-    const Vec3<T> M1 = torque(t + h, R1);
-    if constexpr (P::has_torque) Pi1 += half_h * M1;
+    Vec3<T> M1;
+    if constexpr (StateTorqueProblem<P>) {
+      if (const StepStatus st = last_kick(t + h, R1, half_h, Pi1, y.M, M1); st != StepStatus::ok) return st;
+    } else {
+      M1 = torque(t + h, R1);
+      if constexpr (P::has_torque) Pi1 += half_h * M1;
+    }
     if (!all_finite(R1) || !all_finite(Pi1)) return StepStatus::non_finite;
     y = {R1, Pi1, M1};
     return StepStatus::ok;
@@ -141,11 +165,63 @@ class Lgvi {
   const P& problem() const { return problem_; }
 
  private:
-  Vec3<Scalar> torque(const Scalar& t, const Mat3<Scalar>& R) const {
+  Vec3<Scalar> torque(const Scalar& t, const Mat3<Scalar>& R) const
+    requires AttitudeTorqueProblem<P>
+  {
     if constexpr (P::has_torque)
       return body_torque(problem_, t, R);
     else
       return Vec3<Scalar>::Zero();
+  }
+
+  /// The forced last kick (the header): on entry Pi holds Fᵀ(Π_k + ½hM_k); on exit Π_{k+1}, and M1 = M(t1, R1, Ω_{k+1}).
+  /// The predictor adds ½h M_k (M at the start of the step, O(h) from M1).
+  StepStatus last_kick(const Scalar& t1, const Mat3<Scalar>& R1, const Scalar& half_h, Vec3<Scalar>& Pi,
+                       const Vec3<Scalar>& M0, Vec3<Scalar>& M1)
+    requires StateTorqueProblem<P>
+  {
+    using T = Scalar;
+    const Vec3<T> base = Pi;
+    Pi = base + half_h * M0;
+    const auto M_at = [&](const Vec3<T>& P1) { return Vec3<T>(body_torque(problem_, t1, R1, J_.solve(P1))); };
+    M1 = M_at(Pi);
+    // D = ∂M/∂Ω: the problem's, or forward differences at the predictor.
+    Mat3<T> D;
+    constexpr bool exact_D = requires { problem_.torque_omega_jacobian(t1, R1, Pi); };
+    if constexpr (exact_D) {
+      D = problem_.torque_omega_jacobian(t1, R1, J_.solve(Pi));
+    } else {
+      const Vec3<T> Omega = J_.solve(Pi);
+      for (int j = 0; j < 3; ++j) {
+        const double w = static_cast<double>(value_of(Omega(j)));
+        const double delta = std::sqrt(static_cast<double>(epsilon_v<T>)) * std::max(1.0, std::abs(w));
+        Vec3<T> Od = Omega;
+        Od(j) += T(delta);
+        D.col(j) = (Vec3<T>(body_torque(problem_, t1, R1, Od)) - M1) / T(delta);
+      }
+    }
+    const Mat3<T> A = Mat3<T>::Identity() - half_h * D * J_.J_inv;
+    const Vec3<T> r0 = A.row(0), r1 = A.row(1), r2 = A.row(2);
+    const Vec3<T> c12 = r1.cross(r2), c20 = r2.cross(r0), c01 = r0.cross(r1);
+    const T det = r0.dot(c12);
+    const double tol = std::max(options_.tolerance, static_cast<double>(16 * epsilon_v<T>));
+    // Jets: updates after convergence make the derivative parts converge too — one with the exact D (Newton),
+    // two with forward differences (each contracts by the chord's ratio, O(√ε)).
+    int polish = is_dual_v<T> ? (exact_D ? 1 : 2) : 0;
+    for (int it = 0;; ++it) {
+      const Vec3<T> r = Pi - base - half_h * M1;
+      const double res = static_cast<double>(value_of(r.cwiseAbs().maxCoeff()));
+      const double scale = static_cast<double>(value_of(Pi.cwiseAbs().maxCoeff())) +
+                           std::abs(static_cast<double>(value_of(half_h))) *
+                               static_cast<double>(value_of(M1.cwiseAbs().maxCoeff()));
+      if (!std::isfinite(res)) return StepStatus::non_finite;
+      const bool converged = res <= tol * scale;
+      if (!converged && it >= options_.max_iterations) return StepStatus::not_converged;
+      if (converged && polish-- == 0) return StepStatus::ok;
+      Pi -= (r(0) * c12 + r(1) * c20 + r(2) * c01) / det;  // A⁻¹ r by Cramer's rule
+      ++iterations_;
+      M1 = M_at(Pi);
+    }
   }
 
   /// One sweep of the fixed point c ← J⁻¹(½αμ − c × Jc), α = 1 + c·c.

@@ -22,7 +22,8 @@
 /// output columns are m and |JΩ| (the free body's), whose changes show the torques' action.
 ///
 /// Not a ReducedAttitudeProblem (its torque reads Ω): the explicit methods take it (RKMK, commutator-free,
-/// Crouch–Grossman, the baselines), with every term evaluated at each stage's (t, R, Ω); the LGVI and the splittings
+/// Crouch–Grossman, the baselines), with every term evaluated at each stage's (t, R, Ω), and the LGVI and its
+/// compositions in their forced form (integrators/lgvi.hpp, with ∂M/∂Ω from torque_omega_jacobian); the splittings
 /// do not (AttitudeTorqueProblem). Terms the scene does not ask for are skipped (their flags), so a body with only
 /// damping computes nothing of the controller.
 #pragma once
@@ -76,6 +77,13 @@ struct TorquedBody {
     if (has_damping) M -= damping * Omega;
     if (has_control) M -= k_R * attitude_error(R) + k_Omega * rate_error(R, Omega);
     return M;
+  }
+  /// D = ∂M/∂Ω = −C − k_Ω I (the terms that read Ω are linear in it): the forced LGVI's Newton (integrators/lgvi.hpp).
+  Mat3<T> torque_omega_jacobian(const T&, const Mat3<T>&, const Vec3<T>&) const {
+    Mat3<T> D = Mat3<T>::Zero();
+    if (has_damping) D -= damping;
+    if (has_control) D -= k_Omega * Mat3<T>::Identity();
+    return D;
   }
   /// e_R = ½ vee(R_dᵀR − RᵀR_d).
   Vec3<T> attitude_error(const Mat3<T>& R) const {

@@ -383,14 +383,14 @@ std::vector<Case> cases() {
       {"projection_on_rigid_body", edit(rigid_body, "\"dt\": 0.01", "\"dt\": 0.01, \"projection\": true"),
        "lgi: error: {file}: /integrator/projection: problem rigid_body's torque reads the angular velocity (damping, "
        "control): its energy is not conserved, nothing to project onto"},
-      {"variational_method_on_rigid_body", edit(rigid_body, "\"rkmk4\"", "\"lgvi\""),
-       "lgi: error: {file}: /integrator/method: method \"lgvi\" does not apply to problem rigid_body (its torque "
-       "reads the angular velocity, and the variational integrator, the splittings and their compositions need a "
-       "torque of the attitude alone); it applies to free_body, heavy_top, lagrange_top, kovalevskaya_top, "
-       "satellite, potential (methods that apply to rigid_body: rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, "
-       "rkmk_dp5, rkmk_dp8, rkmk_vern9, rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, rkmk_vern9_cayley, rk4_quat, "
-       "rk4_quat_renorm, rk4_mat, rk4_mat_renorm, dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, "
-       "cf4, cg3)"},
+      {"splitting_on_rigid_body", edit(rigid_body, "\"rkmk4\"", "\"split_dmv\""),
+       "lgi: error: {file}: /integrator/method: method \"split_dmv\" does not apply to problem rigid_body (its "
+       "torque reads the angular velocity, and the splittings and their compositions need a torque of the attitude "
+       "alone); it applies to free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential (methods "
+       "that apply to rigid_body: lgvi, rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk_vern9, "
+       "rkmk4_cayley, rkmk_dp5_cayley, rkmk_dp8_cayley, rkmk_vern9_cayley, rk4_quat, rk4_quat_renorm, rk4_mat, "
+       "rk4_mat_renorm, dop853_quat, dop853_quat_renorm, dop853_mat, dop853_mat_renorm, cf4, cg3, lgvi_yoshida4, "
+       "lgvi_suzuki4, lgvi_yoshida6, lgvi_kahan_li6, lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10)"},
       {"lagrange_not_symmetric", edit(lagrange, "[2, 2, 1]", "[2, 3, 1]"),
        "lgi: error: {file}: /problem/inertia: a Lagrange top has I1 = I2 (symmetry axis e3), got I1 "
        "= 2, I2 = 3"},
@@ -458,8 +458,8 @@ std::vector<Case> cases() {
        "split_dmv_kahan_li6, split_dmv_kahan_li8, split_dmv_sofroniou_spaletta10)"},
       {"splitting_on_euler_angles", edit(euler_angles, "\"rkmk4\"", "\"lgvi\""),
        "lgi: error: {file}: /integrator/method: method \"lgvi\" does not apply to problem lagrange_top_euler_angles; "
-       "it applies to free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential (methods that apply "
-       "to lagrange_top_euler_angles: rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk_vern9)"},
+       "it applies to free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, rigid_body (methods "
+       "that apply to lagrange_top_euler_angles: rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk_vern9)"},
       {"tolerance_on_explicit_method", edit(h, "\"lgvi\"", "\"rkmk4\""),
        "lgi: error: {file}: /integrator/max_iterations: unknown key for method rkmk4 (allowed: method, "
        "dt, projection)"},

@@ -1,8 +1,9 @@
 // Torques that read the angular velocity and the time, M(t, R, Ω) (core/problem.hpp, StateTorqueProblem), through
 // every method that takes one: the observed order against the declared one on a damped, periodically driven skew
 // heavy top; the energy balance E(T) − E(0) = ∫ Ω·M_nc dt along the discrete trajectory; Jets through the
-// torque; and the methods that need a torque of the attitude alone (the variational integrator, the splittings,
-// their compositions, the projection) refusing the problem at compile time.
+// torque; the forced variational integrator (discrete Lagrange–d'Alembert) and its compositions; and the methods
+// that need a torque of the attitude alone (the splittings, their compositions, the projection) refusing the problem
+// at compile time.
 #include "order_measure.hpp"
 #include "test_problems.hpp"
 
@@ -18,6 +19,7 @@
 #include <lgi/integrators/split_exact.hpp>
 #include <lgi/integrators/splitting.hpp>
 #include <lgi/problems/heavy_top.hpp>
+#include <lgi/problems/torqued_body.hpp>
 
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
@@ -41,8 +43,10 @@ static_assert(AttitudeTorqueProblem<HeavyTop<double>> && !StateTorqueProblem<Hea
 // method_applies_v) then does not offer them, and the scene loader names the methods that apply.
 template <template <class> class M>
 constexpr bool exists_for_P = requires { typename M<P>; };
-static_assert(!exists_for_P<Lgvi> && !exists_for_P<SplitDmv> && !exists_for_P<SplitAxes> && !exists_for_P<SplitDmv4> &&
-              !exists_for_P<SplitExact> && !exists_for_P<LgviYoshida4> && !exists_for_P<SplitDmvKahanLi8> &&
+// The forced LGVI (integrators/lgvi.hpp) and its compositions take it.
+static_assert(Stepper<Lgvi<P>> && Stepper<LgviYoshida4<P>> && Stepper<LgviKahanLi8<P>>);
+static_assert(!exists_for_P<SplitDmv> && !exists_for_P<SplitAxes> && !exists_for_P<SplitDmv4> &&
+              !exists_for_P<SplitExact> && !exists_for_P<SplitDmvKahanLi8> &&
               !exists_for_P<LagrangeSplit> && !exists_for_P<LagrangeSplitYoshida4>);
 static_assert(!ProjectableProblem<P> && !ProjectableStepper<Rkmk4<P>>);
 static_assert(Stepper<Rkmk4<P>> && Stepper<Cf4<P>> && Stepper<Cg3<P>> && Stepper<Rk4Quat<P>> && Stepper<Dop853Mat<P>>);
@@ -87,6 +91,84 @@ TEST(StateTorqueOrder, RkmkCayley) {
 TEST(StateTorqueOrder, CommutatorFreeAndCrouchGrossman) {
   expect_order<Cf4>();
   expect_order<Cg3>();
+}
+
+// The forced LGVI (discrete Lagrange–d'Alembert, the torque's Ω-derivative by forward differences: DrivenDampedTop
+// has no torque_omega_jacobian) and its compositions: symmetric, so the compositions reach their orders under forcing.
+TEST(StateTorqueOrder, ForcedLgviAndItsCompositions) {
+  expect_order<Lgvi>();
+  expect_order<LgviYoshida4>();
+  expect_order<LgviSuzuki4>();
+  expect_order<LgviYoshida6>();
+  expect_order<LgviKahanLi6>();
+  expect_order<LgviKahanLi8>();
+}
+
+// The scene's rigid body with every term (gravity off the principal axes, constant body and laboratory torques, a
+// non-diagonal damping matrix, the PD controller): its ∂M/∂Ω against central differences of its torque, and the
+// forced LGVI and a composition at their orders with that exact Jacobian — one Newton update a step for the end
+// kick (the torque is linear in Ω), besides the Cayley solve's.
+TorquedBody<double> every_term_body() {
+  TorquedBody<double> b;
+  b.inertia = test::skew_heavy_top().inertia;
+  b.b = 0.8;
+  b.k = Vec3<double>(0.0, 0.6, 0.8);
+  b.z0 = Vec3<double>(0.36, 0.48, 0.8);
+  b.body_torque = Vec3<double>(0.1, -0.2, 0.05);
+  b.lab_torque = Vec3<double>(-0.05, 0.1, 0.2);
+  b.damping << 0.3, 0.05, 0.0, 0.05, 0.2, 0.02, 0.0, 0.02, 0.1;
+  b.target = so3::exp(Vec3<double>(0.3, -0.2, 0.5));
+  b.target_omega = Vec3<double>(0.1, 0.0, -0.2);
+  b.k_R = 1.5;
+  b.k_Omega = 0.7;
+  b.has_constant = b.has_damping = b.has_control = true;
+  return b;
+}
+
+TEST(StateTorqueOrder, RigidBodyOmegaJacobianAndForcedLgvi) {
+  const TorquedBody<double> b = every_term_body();
+  const State<double> x0 = test::skew_initial_state();
+  const double d = 1e-6;
+  Mat3<double> fd;
+  for (int j = 0; j < 3; ++j) {
+    const Vec3<double> e = d * Vec3<double>::Unit(j);
+    fd.col(j) = (b.torque(0.0, x0.R, x0.Omega + e) - b.torque(0.0, x0.R, x0.Omega - e)) / (2 * d);
+  }
+  const double jacobian_error = (fd - b.torque_omega_jacobian(0.0, x0.R, x0.Omega)).cwiseAbs().maxCoeff();
+  std::printf("rigid_body dM/dOmega against central differences: %.2e\n", jacobian_error);
+  EXPECT_LT(jacobian_error, 1e-9);
+
+  const test::Reference ref = test::make_reference(b, x0, 2.0);
+  EXPECT_NEAR(test::observed_order<Lgvi>(b, x0, 2.0, ref, "rigid_body"), 2.0, 0.2);
+  EXPECT_NEAR(test::observed_order<LgviYoshida6>(b, x0, 2.0, ref, "rigid_body"), 6.0, 0.2);
+
+  Lgvi<TorquedBody<double>> stepper(b);
+  Lgvi<HeavyTop<double>> conservative(test::skew_heavy_top());
+  State<double> x = x0, y = x0;
+  ASSERT_EQ(integrate_to(stepper, x, 0.0, 0.01, 2.0).status, RunStatus::completed);
+  ASSERT_EQ(integrate_to(conservative, y, 0.0, 0.01, 2.0).status, RunStatus::completed);
+  const double forced = static_cast<double>(stepper.newton_iterations()) / 200,
+               cayley = static_cast<double>(conservative.newton_iterations()) / 200;
+  std::printf("Newton updates per step: %.2f forced rigid_body, %.2f heavy top (Cayley solve only)\n", forced, cayley);
+  EXPECT_LE(forced, cayley + 1.05);
+}
+
+// Symmetric: a step of h and then of −h from the end returns to the start, to round-off (the forcing, time-dependent
+// and dissipative, included).
+TEST(StateTorqueOrder, ForcedLgviIsSymmetric) {
+  const P p = driven_damped_skew_top();
+  Lgvi<P> stepper(p);
+  const State<double> x0 = test::skew_initial_state();
+  double worst = 0;
+  for (const double h : {0.1, 0.02}) {
+    auto y = stepper.to_internal(x0, 0.3);
+    ASSERT_EQ(stepper.step(y, 0.3, h), StepStatus::ok);
+    ASSERT_EQ(stepper.step(y, 0.3 + h, -h), StepStatus::ok);
+    const State<double> x = stepper.to_state(y);
+    worst = std::max({worst, (x.R - x0.R).cwiseAbs().maxCoeff(), (x.Omega - x0.Omega).cwiseAbs().maxCoeff()});
+  }
+  std::printf("forced LGVI, step h then -h: largest difference to the start %.2e\n", worst);
+  EXPECT_LT(worst, 1e-14);
 }
 
 TEST(StateTorqueOrder, Baselines) {
@@ -138,6 +220,33 @@ TEST(StateTorqueEnergy, BalanceWithTheWorkOfTheTorqueConverges) {
   expect_energy_balance<RkmkVern9Cayley>("rkmk_vern9_cayley");
 }
 
+// The forced LGVI's own discrete work: its forcing is ½h M_nc at each end of a step, so the work it does is the
+// trapezoidal sum W = Σ ½h (Ω_k·M_nc,k + Ω_{k+1}·M_nc,k+1); E(T) − E(0) − W converges at order 2.
+TEST(StateTorqueEnergy, ForcedLgviBalanceWithItsDiscreteWorkConverges) {
+  const P p = driven_damped_skew_top();
+  std::vector<double> hs, defects;
+  for (const int n : {40, 80, 160, 320}) {
+    const double T = 2.0, h = T / n;
+    Lgvi<P> stepper(p);
+    State<double> x = test::skew_initial_state();
+    const double E0 = energy(p, x);
+    double work = 0, previous = 0;
+    int k = 0;
+    const auto observe = [&](double t, const State<double>& y) {
+      const double power = p.power(t, y.Omega);
+      if (k++ > 0) work += h / 2 * (previous + power);
+      previous = power;
+    };
+    ASSERT_EQ(integrate_every(stepper, x, 0.0, h, T, 1, observe).status, RunStatus::completed);
+    hs.push_back(h);
+    defects.push_back(std::abs(energy(p, x) - E0 - work));
+  }
+  const double order = test::fitted_order(hs, defects);
+  std::printf("lgvi (forced)      energy balance defect %.3e .. %.3e, observed order %.3f\n", defects.front(),
+              defects.back(), order);
+  EXPECT_NEAR(order, 2.0, 0.2);
+}
+
 // Damping alone: the energy falls by the work −∫Ω·CΩ dt > 0, and at every step of a fine run.
 TEST(StateTorqueEnergy, DampingAloneDissipatesAtEveryStep) {
   P p = driven_damped_skew_top();
@@ -158,16 +267,40 @@ TEST(StateTorqueEnergy, DampingAloneDissipatesAtEveryStep) {
   EXPECT_LT(so3::orthogonality_error(x.R), 1e-13);
 }
 
-// Jets through the torque: the derivative of the final state with respect to the damping scale s (C → s C) and to the
+// The same with the forced LGVI, 10⁵ steps: the energy falls at every step (the discrete dissipation ½h(Ω_k·CΩ_k +
+// Ω_{k+1}·CΩ_{k+1}) dominates the method's O(h³) local energy error), R stays orthogonal to round-off.
+TEST(StateTorqueEnergy, ForcedLgviDissipatesAtEveryStep) {
+  P p = driven_damped_skew_top();
+  p.a.setZero();
+  Lgvi<P> stepper(p);
+  State<double> x = test::skew_initial_state();
+  double previous = energy(p, x), largest_rise = -1;
+  int steps = 0;
+  const auto observe = [&](double, const State<double>& y) {
+    const double E = energy(p, y);
+    if (steps++ > 0) largest_rise = std::max(largest_rise, E - previous);
+    previous = E;
+  };
+  EXPECT_EQ(integrate_every(stepper, x, 0.0, 2e-4, 20.0, 1, observe).status, RunStatus::completed);
+  std::printf("damped skew top, 100000 forced LGVI steps: E from %.6f to %.6f, largest rise between steps %.3e, "
+              "%.2f Newton updates per step\n",
+              energy(p, test::skew_initial_state()), energy(p, x), largest_rise,
+              static_cast<double>(stepper.newton_iterations()) / 1e5);
+  EXPECT_LT(largest_rise, 0.0);
+  EXPECT_LT(so3::orthogonality_error(x.R), 1e-13);
+}
+
+// Jets through the torque (an explicit method and the forced LGVI's Newton): the derivative of the final state with respect to the damping scale s (C → s C) and to the
 // drive's frequency, against central differences.
-TEST(StateTorqueJets, DerivativesAgreeWithFiniteDifferences) {
+template <template <class> class M>
+void expect_jets_agree(const char* label) {
   using Jet = ceres::Jet<double, 2>;
   const P p = driven_damped_skew_top();
   const auto run = [&](double s, double w) {
     P q = p;
     q.C *= s;
     q.w = w;
-    Rkmk4<P> stepper(q);
+    M<P> stepper(q);
     State<double> x = test::skew_initial_state();
     integrate_to(stepper, x, 0.0, 0.01, 2.0);
     return x;
@@ -175,11 +308,11 @@ TEST(StateTorqueJets, DerivativesAgreeWithFiniteDifferences) {
   auto pj = p.cast<Jet>();
   pj.C *= Jet(1.0, 0);
   pj.w = Jet(p.w, 1);
-  Rkmk4<DrivenDampedTop<Jet>> stepper(pj);
+  M<DrivenDampedTop<Jet>> stepper(pj);
   const State<double> x0 = test::skew_initial_state();
   State<Jet> x{x0.R.cast<Jet>(), x0.Omega.cast<Jet>()};
   ASSERT_EQ(integrate_to(stepper, x, Jet(0), Jet(0.01), Jet(2.0)).status, RunStatus::completed);
-  const double d = 1e-6;
+  const double d = 1e-4;  // the LGVI's Newton stops at 1e-14 relative: differences of 1e-6 would see ~1e-8 of it
   const State<double> sp = run(1 + d, p.w), sm = run(1 - d, p.w), wp = run(1, p.w + d), wm = run(1, p.w - d);
   double worst = 0;
   for (int i = 0; i < 3; ++i) {
@@ -192,8 +325,13 @@ TEST(StateTorqueJets, DerivativesAgreeWithFiniteDifferences) {
                         std::abs(x.R(i, j).v(1) - fr_w) / (1 + std::abs(fr_w))});
     }
   }
-  std::printf("Jets through M(t, R, Omega): largest difference to central differences %.2e\n", worst);
-  EXPECT_LT(worst, 1e-7);
+  std::printf("%-6s Jets through M(t, R, Omega): largest difference to central differences %.2e\n", label, worst);
+  EXPECT_LT(worst, 1e-7) << label;
+}
+
+TEST(StateTorqueJets, DerivativesAgreeWithFiniteDifferences) {
+  expect_jets_agree<Rkmk4>("rkmk4");
+  expect_jets_agree<Lgvi>("lgvi");
 }
 
 }  // namespace
