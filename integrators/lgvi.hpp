@@ -40,7 +40,7 @@
 ///
 /// Forced (a StateTorqueProblem, core/problem.hpp: damping, feedback control). The discrete Lagrange–d'Alembert
 /// principle (Marsden & West, Acta Numerica 10 (2001), §3.2; NUMERICS.md) with the forcing split evenly between the
-/// ends of the step, f_d^∓ = ½ h M_nc (as the control moments enter the LGVI of Lee, Leok & McClamroch, J. Dyn.
+/// ends of the step, f_d^∓ = ½ h M_nc (for the LGVI with control moments see also Lee, Leok & McClamroch, J. Dyn.
 /// Control Syst. 14 (2008)), keeps the update above with
 /// M_k = M(t_k, R_k, Ω_k) — the first kick stays explicit — and makes the last one implicit in Π_{k+1}:
 ///
