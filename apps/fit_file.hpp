@@ -2,6 +2,7 @@
 // anything is solved. Needs lgi::fit (Ceres).
 #pragma once
 
+#include "csv_reader.hpp"
 #include "json_reader.hpp"
 #include "scene.hpp"
 
@@ -31,22 +32,10 @@ struct FitSpec {
   std::vector<InputAdjustment> adjustments;
 };
 
-// Thrown for bad CSV input (already "file:line: message").
-// (An InputError: one line, control characters from the file escaped. Catch it before InputError where the two are
-// reported differently.)
-struct CsvError : InputError {
-  using InputError::InputError;
-};
-
 // Reads a fit file: the scene, the unknowns, the observations (inline or from a CSV file beside it), the solver.
 // Throws InputError (naming the file and the JSON path) or CsvError (naming the CSV file and line).
 FitSpec read_fit_file(const std::string& file);
 FitSpec parse_fit_document(const json& document, const std::string& file);
-
-// The bytes of an `lgi run`-style CSV (`path` for messages): a header row, then rows of finite numbers; a UTF-8 byte
-// order mark, CR line ends and blank lines are accepted. rows[i] was on line lines[i]. Throws CsvError.
-void parse_observation_csv(const std::string& text, const std::string& path, std::vector<std::string>& header,
-                           std::vector<std::vector<double>>& rows, std::vector<int>& lines);
 
 // The JSON path (or CSV line) of a FitInputError's field ("observations[3].t", "unknowns[1].name", ...).
 std::string where_of(const std::string& field, const FitSpec& spec);

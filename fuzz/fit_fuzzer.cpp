@@ -1,5 +1,5 @@
 // lgi/fuzz/fit_fuzzer.cpp — libFuzzer harness: fit files (apps/fit_file.cpp parse_fit_document) and observation tables
-// (parse_observation_csv, then fit::observations_from_table), chosen by the input's first byte: even — the rest is a
+// (parse_csv, then fit::observations_from_table), chosen by the input's first byte: even — the rest is a
 // fit file; odd — the rest is an observation CSV, read with sigma_attitude and/or sigma_omega set by bits 1 and 2.
 //
 // Oracle: a rejected fit file ends in one InputError (or, for the CSV file it names, one CsvError) with one printable
@@ -36,7 +36,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::vector<std::vector<double>> rows;
   std::vector<int> lines;
   try {
-    parse_observation_csv(text, kCsv, header, rows, lines);
+    parse_csv(text, kCsv, header, rows, lines);
   } catch (const CsvError& e) {
     lgi::fuzz::check_message(e.what(), kCsv);
     return 0;
