@@ -165,6 +165,11 @@ bool write_checkpoint(const std::string& path, const Checkpoint& ck, const std::
   if (ck.every_seconds > 0) every["seconds"] = ck.every_seconds;
   j["checkpoint_every"] = every;
   j["scene"] = nlohmann::ordered_json::parse(ck.scene.dump());
+  if (!ck.inputs.empty()) {
+    nlohmann::ordered_json inputs = nlohmann::ordered_json::array();
+    for (const auto& [file, digest] : ck.inputs) inputs.push_back({{"file", file}, {"fnv1a64", hex64(digest)}});
+    j["inputs"] = inputs;
+  }
   std::string text = j.dump(1);  // ends in "\n}"
   text.resize(text.size() - 2);
   text += checksum_marker;
@@ -237,7 +242,7 @@ Checkpoint parse_checkpoint(const std::string& text, const std::string& path) {
   const Node root(doc, "", path);
   if (!root.is_object()) root.fail("not a checkpoint of lgi run");
   root.allow_only({"lgi_checkpoint", "lgi_version", "scene_file", "method", "t", "state", "cursor", "internal",
-                   "output", "last_row_t", "last_row_quaternion", "checkpoint_every", "scene", "checksum"});
+                   "output", "last_row_t", "last_row_quaternion", "checkpoint_every", "scene", "inputs", "checksum"});
   Checkpoint ck;
   ck.scene_file = root.at("scene_file").string();
   const Node scene = root.at("scene");
@@ -306,6 +311,14 @@ Checkpoint parse_checkpoint(const std::string& text, const std::string& path) {
   every.allow_only({"steps", "seconds"});
   if (auto n = every.find("steps")) ck.every_steps = n->integer(1, big);
   if (auto n = every.find("seconds")) ck.every_seconds = n->positive();
+  if (const auto inputs = root.find("inputs")) {
+    if (!inputs->is_array()) inputs->fail("expected an array of {\"file\": ..., \"fnv1a64\": ...}");
+    for (std::size_t i = 0; i < inputs->size(); ++i) {
+      const Node in = inputs->at(i);
+      in.allow_only({"file", "fnv1a64"});
+      ck.inputs.emplace_back(in.at("file").string(), read_hex64(in.at("fnv1a64")));
+    }
+  }
   ck.t = root.at("t").number();
   return ck;
 }

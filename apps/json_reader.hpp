@@ -61,6 +61,7 @@ class Node {
   const json& value() const { return v_; }
   const std::string& pointer() const { return ptr_; }  // "" for the document root
   std::string where() const { return ptr_.empty() ? std::string("/") : ptr_; }
+  const std::string& file() const { return file_; }  // the file the value was read from
   bool is_object() const { return v_.is_object(); }
   bool is_array() const { return v_.is_array(); }
 

@@ -23,6 +23,7 @@
 // Outputs that are not regular files (-o -, /dev/null, a FIFO) are streamed to and never replaced
 // (apps/output_file.hpp); --checkpoint never replaces or removes a file that is not this run's checkpoint.
 // lgi run is single-threaded: the same scene gives the same bytes on every run.
+#include "hashing.hpp"
 #include "plugin_loader.hpp"
 #include "registry.hpp"
 #include "runner.hpp"
@@ -219,6 +220,16 @@ int run_command(const RunCommandOptions& cmd) {
       if (resume.method != scene.method->traits.name)
         return fail(exit_bad_input, cmd.resume + ": /method: \"" + resume.method + "\" is not the scene's method \"" +
                                         std::string(scene.method->traits.name) + "\"");
+      // The files the scene reads (a torque table) must be those the run started with.
+      for (const auto& [file, digest] : scene.problem->input_files()) {
+        const auto was = std::find_if(resume.inputs.begin(), resume.inputs.end(),
+                                      [&](const auto& in) { return in.first == file; });
+        if (was != resume.inputs.end() && was->second == digest) continue;
+        const std::string then = was == resume.inputs.end() ? "none recorded" : lgi::app::hex64(was->second);
+        return fail(exit_bad_input, file + ": changed since the checkpoint " + cmd.resume + " was written (fnv1a64 " +
+                                        then + " then, " + lgi::app::hex64(digest) +
+                                        " now): the resumed run would not continue the same motion");
+      }
     } else {
       document = lgi::app::read_json_file(cmd.scene_file);
       scene = lgi::app::parse_scene(document, cmd.scene_file);

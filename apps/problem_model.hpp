@@ -16,6 +16,8 @@
 #include <lgi/core/problem.hpp>
 #include <lgi/integrators/projection.hpp>
 
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -46,6 +48,14 @@ class ProblemModelOf final : public ProblemModel {
   BodyData body() const override {
     if constexpr (CoordinateProblem<P>) return body_of(problem_.heavy_top());  // the same top on SO(3)
     else return body_of(problem_);
+  }
+  double time_limit() const override {
+    if constexpr (requires { problem_.time_limit(); }) return problem_.time_limit();
+    else return std::numeric_limits<double>::infinity();
+  }
+  std::vector<std::pair<std::string, std::uint64_t>> input_files() const override {
+    if constexpr (requires { problem_.input_files(); }) return problem_.input_files();
+    else return {};
   }
   std::unique_ptr<runner_detail::ProblemRunner> runner() const override {
     return runner_detail::make_problem_runner(problem_);

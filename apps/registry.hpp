@@ -17,9 +17,11 @@
 #include <lgi/core/integrator.hpp>
 #include <lgi/core/state.hpp>
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace lgi::app {
@@ -111,6 +113,11 @@ class ProblemModel {
   virtual bool reads_omega() const = 0;  // its torque reads Ω (damping, control): the energy changes by their work
   virtual bool projectable() const = 0;  // "projection": true is accepted (integrators/projection.hpp)
   virtual BodyData body() const = 0;
+  // The last time the problem's data define its torque at (a torque table's last row; +inf: no limit; the scene
+  // refuses a t_end beyond it).
+  virtual double time_limit() const = 0;
+  // The files the problem's data were read from, with the FNV-1a 64 hash of their bytes (checkpoints record them).
+  virtual std::vector<std::pair<std::string, std::uint64_t>> input_files() const = 0;
   // The scene's method on this problem and its rows (runner_detail.hpp).
   virtual std::unique_ptr<runner_detail::ProblemRunner> runner() const = 0;
   // The columns of a row (csv_header) for a state on SO(3) (std::logic_error for a problem not on SO(3)).

@@ -139,6 +139,7 @@ bool Checkpointer::write(const Cursor& c, std::span<const double> internal, doub
   Checkpoint ck;
   ck.scene_file = scene_.file;
   ck.scene = options_.scene_document;
+  ck.inputs = scene_.problem->input_files();
   ck.method = std::string(scene_.method->traits.name);
   ck.cursor = c;
   ck.internal.assign(internal.begin(), internal.end());

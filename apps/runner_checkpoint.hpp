@@ -19,6 +19,8 @@
 //     FNV-1a hashes of their first and last 4 KiB (a resume refuses a file that does not match);
 //   - the time of the last row written, with its quaternion columns where the scene's "output.columns" has them
 //     (their sign continues from it: output_columns.hpp), the checkpoint interval, the scene's JSON document;
+//   - "inputs", where the scene reads other files (a torque table): each file's path and the FNV-1a 64 hash of its
+//     bytes when the run started (a resume refuses a file that changed since);
 //   - "checksum": FNV-1a 64 (hashing.hpp) of the whole document in canonical form without this member. A file
 //     changed or damaged anywhere (a flipped byte, a cut, an edited value) is refused with one line before any of
 //     it is used; semantic checks (cursor against the scene, the stepper's size) follow when the run resumes.
@@ -37,6 +39,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lgi::app {
@@ -66,6 +69,7 @@ struct Checkpoint {
   double every_seconds = 0;
   double t = 0;  // the time of the state (informational: the cursor is what is read)
   std::vector<double> R, omega;  // informational
+  std::vector<std::pair<std::string, std::uint64_t>> inputs;  // the files the scene read, with their hashes
 };
 
 // The word a checkpoint, a sweep's status column and the summaries use for a step status ("not_converged", ...).

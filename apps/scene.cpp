@@ -214,6 +214,13 @@ Scene parse_scene(const json& document, const std::string& file) {
   // t_end and the number of steps it implies
   const Node t_end = root.at("t_end");
   scene.t_end = t_end.non_negative();
+  // Data that end (a torque table) end the run's reach: beyond them the torque is not known.
+  if (const double limit = scene.problem->time_limit(); scene.t_end > limit) {
+    const auto files = scene.problem->input_files();
+    t_end.fail("t_end = " + format_number(scene.t_end) + " is beyond the last row of the torque table" +
+               (files.empty() ? std::string() : " " + files.front().first) + " (t = " + format_number(limit) +
+               "): the torque is not known there");
+  }
   // dt is the step (adaptive runs: the first step); one longer than the whole run is a slip of units or digits.
   if (scene.t_end > 0 && scene.dt > scene.t_end)
     integrator.at("dt").fail("must be <= t_end = " + format_number(scene.t_end) + ", got " + format_number(scene.dt));

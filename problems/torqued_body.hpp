@@ -1,7 +1,7 @@
 /// \file
 /// lgi/problems/torqued_body.hpp — a rigid body under a sum of torque terms: uniform gravity, constant torques in the
-/// body or the laboratory frame, linear damping and a PD attitude controller. The body of attitude-control work and
-/// of dissipative tops.
+/// body or the laboratory frame, a tabulated torque M(t), linear damping and a PD attitude controller. The body of
+/// attitude-control work and of dissipative tops.
 ///
 /// Equations (core/problem.hpp, StateTorqueProblem): J Ω' = (JΩ) × Ω + M(t, R, Ω), R' = R hat(Ω), with body-frame
 /// torque
@@ -9,6 +9,7 @@
 /// ~~~{.unparsed}
 ///   M = b (Rᵀk) × z0                       gravity (the heavy top's, seed paper (s4)–(s5)); b = 0: none
 ///     + M_body + Rᵀ M_lab                  constant torques, body and laboratory frame
+///     + M_tab(t)  or  Rᵀ M_tab(t)          a tabulated torque, body or laboratory frame (problems/torque_table.hpp)
 ///     − C Ω                                linear damping, C symmetric positive semi-definite
 ///     − k_R e_R − k_Ω e_Ω                  PD control toward a constant target attitude R_d, rate Ω_d:
 ///        e_R = ½ vee(R_dᵀR − RᵀR_d),  e_Ω = Ω − RᵀR_d Ω_d
@@ -17,7 +18,7 @@
 /// (the attitude and rate errors of Lee, Leok & McClamroch, "Geometric tracking control of a quadrotor UAV on
 /// SE(3)", Proc. IEEE CDC 2010, 5420, §III, here with a constant R_d). Energy E = ½ Ω·JΩ + V(R) with
 /// V = b k·(R z0) + k_R Ψ(R), Ψ = ½ tr(I − R_dᵀR): for R → R exp(η̂), dΨ = −½ tr(R_dᵀR η̂) = η·e_R, so the
-/// proportional term is −k_R dΨ, conservative. Balance: dE/dt = Ω·M_nc with M_nc = M_body + Rᵀ M_lab − CΩ − k_Ω e_Ω;
+/// proportional term is −k_R dΨ, conservative. Balance: dE/dt = Ω·M_nc with M_nc = M_body + Rᵀ M_lab + M_tab − CΩ − k_Ω e_Ω;
 /// damping alone gives dE/dt = −Ω·CΩ ≤ 0. The spatial momentum m = RJΩ obeys m' = R M: no invariant in general; the
 /// output columns are m and |JΩ| (the free body's), whose changes show the torques' action.
 ///
@@ -32,9 +33,16 @@
 #include "../core/problem.hpp"
 #include "../core/so3.hpp"
 
+#include "torque_table.hpp"
+
 #include <array>
 #include <cstddef>
+#include <limits>
+#include <memory>
+#include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace lgi {
 
@@ -58,7 +66,10 @@ struct TorquedBody {
   Vec3<T> target_omega = Vec3<T>::Zero(); ///< Ω_d, the target's body angular velocity (has_control)
   T k_R = T(0);                           ///< the controller's proportional gain (has_control)
   T k_Omega = T(0);                       ///< the controller's derivative gain (has_control)
+  std::shared_ptr<const TorqueTable> table;  ///< M_tab(t) (has_table)
+  bool table_in_lab = false;              ///< the table's torques are laboratory-frame (else body-frame)
   bool has_constant = false;              ///< M_body, M_lab present
+  bool has_table = false;                 ///< M_tab present (table non-null)
   bool has_damping = false;               ///< −CΩ present
   bool has_control = false;               ///< the PD law present
 
@@ -68,12 +79,16 @@ struct TorquedBody {
     if (has_control) V += k_R * (T(3) - (target.transpose() * R).trace()) / T(2);
     return V;
   }
-  /// M(t, R, Ω), body frame (this header's sum; t unused: the terms are autonomous). Not inlined into the steps
-  /// (noinline): one call per stage, for the compile time of the 22 methods' flattened steps, each of which would
+  /// M(t, R, Ω), body frame (this header's sum; t read by the table only). Not inlined into the steps
+  /// (noinline): one call per stage, for the compile time of the 30 methods' flattened steps, each of which would
   /// carry every term's code (the cost per step: docs/performance.md, "rigid_body").
-  [[gnu::noinline]] Vec3<T> torque(const T&, const Mat3<T>& R, const Vec3<T>& Omega) const {
+  [[gnu::noinline]] Vec3<T> torque(const T& t, const Mat3<T>& R, const Vec3<T>& Omega) const {
     Vec3<T> M = b * Vec3<T>(R.transpose() * k).cross(z0);
     if (has_constant) M += body_torque + R.transpose() * lab_torque;
+    if (has_table) {
+      const Vec3<T> Mt = (*table)(t);
+      M += table_in_lab ? Vec3<T>(R.transpose() * Mt) : Mt;
+    }
     if (has_damping) M -= damping * Omega;
     if (has_control) M -= k_R * attitude_error(R) + k_Omega * rate_error(R, Omega);
     return M;
@@ -106,6 +121,16 @@ struct TorquedBody {
     const Vec3<T> m = spatial_momentum(inertia, x);
     return {m.x(), m.y(), m.z(), body_momentum_norm(inertia, x)};
   }
+  /// The last time the torque is defined at: the table's last sample, +∞ without a table (the scene loader refuses
+  /// a t_end beyond it).
+  double time_limit() const { return has_table ? table->t_last() : std::numeric_limits<double>::infinity(); }
+  /// The files the problem's data were read from, with a hash of their bytes (the table's; checkpoints record them
+  /// so that a resume refuses a file that changed).
+  std::vector<std::pair<std::string, std::uint64_t>> input_files() const {
+    if (has_table && !table->source().empty()) return {{table->source(), table->digest()}};
+    return {};
+  }
+
   /// k (UniformGravityProblem: the sweeps' tilt and height of z0).
   Vec3<T> gravity_axis() const { return k; }
   /// z0 (UniformGravityProblem).
@@ -126,7 +151,10 @@ struct TorquedBody {
     c.target_omega = target_omega.template cast<S>();
     c.k_R = S(k_R);
     c.k_Omega = S(k_Omega);
+    c.table = table;
+    c.table_in_lab = table_in_lab;
     c.has_constant = has_constant;
+    c.has_table = has_table;
     c.has_damping = has_damping;
     c.has_control = has_control;
     return c;

@@ -1,14 +1,21 @@
 // lgi/apps/problems/rigid_body.cpp — the `rigid_body` problem type of scenes (problems/torqued_body.hpp): a body under
 // optional uniform gravity and a list of torque terms; its parser and its registration (every method that applies to
 // it is compiled here, problem_model.hpp). The format is documented in docs/scenes.md, "rigid_body".
+#include "../csv_reader.hpp"
 #include "../problem_model.hpp"
 
 #include <lgi/problems/torqued_body.hpp>
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
 #include <string>
+#include <system_error>
+#include <vector>
 
 namespace lgi::app {
 namespace {
@@ -49,6 +56,64 @@ Mat3<double> read_target(const Node& t) {
   return read_axis_angle(*a);
 }
 
+// {"type": "table", "file": CSV, "frame": "body" | "lab", "interpolation": "linear" (default) | "cubic"}: the CSV
+// (relative to the scene's directory) has the columns t, M1, M2, M3 in any order, at least 2 rows, t strictly
+// increasing from at most 0 (the run's start).
+std::shared_ptr<const TorqueTable> read_table(const Node& term) {
+  const Node file = term.at("file");
+  std::filesystem::path path = file.string();
+  if (path.is_relative()) path = std::filesystem::path(term.file()).parent_path() / path;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    file.fail("cannot read the torque table " + path.string() + (ec ? ": " + ec.message() : ": not a regular file"));
+  TorqueTable::Interpolation interpolation = TorqueTable::Interpolation::linear;
+  if (const auto i = term.find("interpolation")) {
+    const std::string name = i->string();
+    if (name == "cubic")
+      interpolation = TorqueTable::Interpolation::cubic;
+    else if (name != "linear")
+      i->fail("unknown interpolation " + quoted_input(name) + did_you_mean(name, {"linear", "cubic"}) +
+              " (known: linear, cubic)");
+  }
+  const std::string csv = path.string();
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  std::vector<int> lines;
+  std::uint64_t digest = 0;
+  read_csv(csv, header, rows, lines, "torque table", &digest);
+  static constexpr std::string_view names[4] = {"t", "M1", "M2", "M3"};
+  std::string have;
+  for (const std::string& h : header) have += (have.empty() ? "" : ", ") + h;
+  for (const std::string& h : header)
+    if (std::find(std::begin(names), std::end(names), h) == std::end(names))
+      throw CsvError(csv + ": unknown column " + quoted_input(h) + " in the header (a torque table has the columns t, "
+                     "M1, M2, M3)");
+  std::size_t column[4];
+  for (int i = 0; i < 4; ++i) {
+    column[i] = static_cast<std::size_t>(std::find(header.begin(), header.end(), names[i]) - header.begin());
+    if (column[i] == header.size())
+      throw CsvError(csv + ": missing column " + std::string(names[i]) + " (the header has " + have +
+                     "; a torque table has t, M1, M2, M3)");
+  }
+  if (rows.size() < 2)
+    throw CsvError(csv + ": a torque table needs at least 2 rows to interpolate, it has " + std::to_string(rows.size()));
+  if (const double t0 = rows[0][column[0]]; t0 > 0)
+    throw CsvError(csv + ":" + std::to_string(lines[0]) + ": the table starts at t = " + format_number(t0) +
+                   ", after the run's start t = 0 (the torque would be undefined there)");
+  std::vector<double> t;
+  std::vector<Vec3<double>> M;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const double tr = rows[r][column[0]];
+    if (r > 0 && !(tr > t.back()))
+      throw CsvError(csv + ":" + std::to_string(lines[r]) + ": t = " + format_number(tr) +
+                     " does not come after the previous row's t = " + format_number(t.back()) +
+                     " (a torque table's times increase strictly)");
+    t.push_back(tr);
+    M.emplace_back(rows[r][column[1]], rows[r][column[2]], rows[r][column[3]]);
+  }
+  return std::make_shared<const TorqueTable>(std::move(t), std::move(M), interpolation, csv, digest);
+}
+
 void read_term(const Node& term, TorquedBody<double>& body, bool& has_controller) {
   if (!term.is_object()) term.fail("expected a torque term {\"type\": ...}, got " + describe(term.value()));
   const std::string type = term.at("type").string();
@@ -65,6 +130,16 @@ void read_term(const Node& term, TorquedBody<double>& body, bool& has_controller
                             " (known: body, lab)");
     }
     body.has_constant = true;
+  } else if (type == "table") {
+    term.allow_only({"type", "file", "frame", "interpolation"}, "a torque table");
+    if (body.has_table) term.fail("one table term per body");
+    const std::string frame = term.at("frame").string();
+    if (frame != "body" && frame != "lab")
+      term.at("frame").fail("unknown frame " + quoted_input(frame) + did_you_mean(frame, {"body", "lab"}) +
+                            " (known: body, lab)");
+    body.table = read_table(term);
+    body.table_in_lab = frame == "lab";
+    body.has_table = true;
   } else if (type == "damping") {
     term.allow_only({"type", "coefficient", "matrix"}, "damping");
     const auto c = term.find("coefficient"), C = term.find("matrix");
@@ -82,8 +157,8 @@ void read_term(const Node& term, TorquedBody<double>& body, bool& has_controller
     body.has_control = true;
   } else {
     term.at("type").fail("unknown torque term " + quoted_input(type) +
-                         did_you_mean(type, {"constant", "damping", "attitude_control"}) +
-                         " (known: constant, damping, attitude_control)");
+                         did_you_mean(type, {"constant", "table", "damping", "attitude_control"}) +
+                         " (known: constant, table, damping, attitude_control)");
   }
 }
 
@@ -101,6 +176,6 @@ TorquedBody<double> parse(const Node& p) {
 
 }  // namespace
 
-LGI_DEFINE_PROBLEM(rigid_body, TorquedBody<double>, "rigid body under optional gravity and torque terms: constant (body or lab frame), damping -C Omega, PD attitude control", ({"type", "inertia", "gravity", "torques"}), parse)
+LGI_DEFINE_PROBLEM(rigid_body, TorquedBody<double>, "rigid body under optional gravity and torque terms: constant or tabulated (body or lab frame), damping -C Omega, PD attitude control", ({"type", "inertia", "gravity", "torques"}), parse)
 
 }  // namespace lgi::app

@@ -370,7 +370,7 @@ std::vector<Case> cases() {
        "lgi: error: {file}: /problem/torques/1/frame: unknown frame \"inertial\" (known: body, lab)"},
       {"torque_term_unknown", edit(rigid_body, "\"type\": \"damping\"", "\"type\": \"dampng\""),
        "lgi: error: {file}: /problem/torques/0/type: unknown torque term \"dampng\"; did you mean \"damping\"? "
-       "(known: constant, damping, attitude_control)"},
+       "(known: constant, table, damping, attitude_control)"},
       {"control_target_not_unit", edit(rigid_body, "[1, 0, 0, 0]", "[1, 0.5, 0, 0]"),
        "lgi: error: {file}: /problem/torques/2/target/quaternion: must be a unit quaternion (to 0.01), its length is "
        "1.118033988749895"},
@@ -571,6 +571,67 @@ TEST_F(MalformedScenes, HugeFileAndDeepNesting) {
   for (int i = 0; i < 63; ++i) keys += "/a";  // the root and 63 objects open
   expect_rejected("deep_objects", edit(heavy_top, "{\"every\": 2}", objects + "1" + std::string(100000, '}')),
                   "lgi: error: {file}: " + keys + ": nesting deeper than 64 levels");
+}
+
+// A torque table (the rigid_body "table" term): each defect of the CSV file gives one line naming the file and the
+// line (or the header), of the scene one line naming its JSON path; nothing is written. The valid table runs.
+TEST_F(MalformedScenes, TorqueTablesGiveTheirFileAndLine) {
+  const std::string good = "t, M1, M2, M3\n0, 0.1, 0, 0\n0.05, 0.2, 0.1, 0\n0.1, 0.1, 0, 0.3\n";
+  const auto scene_with = [](const std::string& csv, const std::string& extra = "") {
+    return R"({"problem": {"type": "rigid_body", "inertia": [1, 2, 3],
+                "torques": [{"type": "table", "file": ")" + csv + R"(", "frame": "body")" + extra + R"(}]},
+               "initial": {"omega": [0.1, 0.2, 1]}, "integrator": {"method": "rkmk4", "dt": 0.01}, "t_end": 0.1})";
+  };
+  write("good.csv", good);
+  const fs::path valid = write("table.json", scene_with("good.csv", R"(, "interpolation": "cubic")"));
+  const Result ok = run(valid, dir_ / "table.csv");
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  fs::remove(dir_ / "table.csv");
+
+  struct TableCase {
+    std::string name, csv, extra, golden;  // golden: {csv} for the table's path
+  };
+  const std::vector<TableCase> table_cases = {
+      {"table_unsorted", "t,M1,M2,M3\n0,0,0,0\n0.06,0,0,0\n0.05,0,0,0\n0.1,0,0,0\n", "",
+       "lgi: error: {csv}:4: t = 0.05 does not come after the previous row's t = 0.06 (a torque table's times increase "
+       "strictly)"},
+      {"table_repeated_time", "t,M1,M2,M3\n0,0,0,0\n0,1,0,0\n0.1,0,0,0\n", "",
+       "lgi: error: {csv}:3: t = 0 does not come after the previous row's t = 0 (a torque table's times increase "
+       "strictly)"},
+      {"table_nan", "t,M1,M2,M3\n0,0,0,0\n0.05,0,NaN,0\n0.1,0,0,0\n", "",
+       "lgi: error: {csv}:3: column M2: not a finite number: \"NaN\""},
+      {"table_missing_column", "t,M1,M3\n0,0,0\n0.1,0,0\n", "",
+       "lgi: error: {csv}: missing column M2 (the header has t, M1, M3; a torque table has t, M1, M2, M3)"},
+      {"table_unknown_column", "t,M1,M2,M3,M4\n0,0,0,0,0\n0.1,0,0,0,0\n", "",
+       "lgi: error: {csv}: unknown column \"M4\" in the header (a torque table has the columns t, M1, M2, M3)"},
+      {"table_short_row", "t,M1,M2,M3\n0,0,0,0\n0.1,0,0\n", "",
+       "lgi: error: {csv}:3: row has 3 values, the header 4"},
+      {"table_one_row", "t,M1,M2,M3\n0,0,0,0\n", "",
+       "lgi: error: {csv}: a torque table needs at least 2 rows to interpolate, it has 1"},
+      {"table_starts_late", "t,M1,M2,M3\n0.01,0,0,0\n0.1,0,0,0\n", "",
+       "lgi: error: {csv}:2: the table starts at t = 0.01, after the run's start t = 0 (the torque would be undefined "
+       "there)"},
+      {"table_ends_early", "t,M1,M2,M3\n0,0,0,0\n0.09,0,0,0\n", "",
+       "lgi: error: {file}: /t_end: t_end = 0.1 is beyond the last row of the torque table {csv} (t = 0.09): the "
+       "torque is not known there"},
+      {"table_empty", "", "", "lgi: error: {csv}: empty torque table (no header row)"},
+      {"table_interpolation_unknown", good, R"(, "interpolation": "spline")",
+       "lgi: error: {file}: /problem/torques/0/interpolation: unknown interpolation \"spline\" (known: linear, cubic)"},
+      {"table_key_unknown", good, R"(, "scale": 2)",
+       "lgi: error: {file}: /problem/torques/0/scale: unknown key for a torque table (allowed: type, file, frame, "
+       "interpolation)"},
+  };
+  for (const TableCase& c : table_cases) {
+    const fs::path csv = write(c.name + "_table.csv", c.csv);  // not the run's output, name + ".csv"
+    std::string golden = c.golden;
+    for (auto at = golden.find("{csv}"); at != std::string::npos; at = golden.find("{csv}"))
+      golden.replace(at, 5, csv.string());
+    expect_rejected(c.name, scene_with(c.name + "_table.csv", c.extra), golden);
+  }
+  const fs::path missing = dir_ / "absent.csv";
+  expect_rejected("table_file_missing", scene_with("absent.csv"),
+                  "lgi: error: {file}: /problem/torques/0/file: cannot read the torque table " + missing.string() +
+                      ": No such file or directory");
 }
 
 TEST_F(MalformedScenes, EachGivesItsGoldenMessageAndStatusAndNoOutput) {

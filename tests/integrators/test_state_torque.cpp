@@ -19,6 +19,7 @@
 #include <lgi/integrators/split_exact.hpp>
 #include <lgi/integrators/splitting.hpp>
 #include <lgi/problems/heavy_top.hpp>
+#include <lgi/problems/torque_table.hpp>
 #include <lgi/problems/torqued_body.hpp>
 
 #include <ceres/jet.h>
@@ -27,6 +28,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <memory>
+#include <stdexcept>
 #include <string_view>
 #include <vector>
 
@@ -151,6 +154,107 @@ TEST(StateTorqueOrder, RigidBodyOmegaJacobianAndForcedLgvi) {
                cayley = static_cast<double>(conservative.newton_iterations()) / 200;
   std::printf("Newton updates per step: %.2f forced rigid_body, %.2f heavy top (Cayley solve only)\n", forced, cayley);
   EXPECT_LE(forced, cayley + 1.05);
+}
+
+// A tabulated torque (problems/torque_table.hpp). The linear table reproduces a linear function everywhere (its
+// extrapolation too); the natural cubic spline interpolates sin at the nodes and converges at order 4 away from the
+// ends (its end conditions M'' = 0 cost order 2 near them, decaying geometrically inward), is C¹ at the nodes (Jets
+// give M'); bad samples are refused.
+TEST(TorqueTableInterpolation, LinearExactCubicOrderFourAndJets) {
+  using Interp = TorqueTable::Interpolation;
+  const Vec3<double> a(0.3, -0.2, 0.1), b(1.0, 0.5, -2.0);
+  std::vector<double> t{0.0, 0.3, 0.5, 1.2, 2.0};
+  std::vector<Vec3<double>> M;
+  for (const double ti : t) M.push_back(a + ti * b);
+  const TorqueTable linear(t, M, Interp::linear), cubic_of_line(t, M, Interp::cubic);
+  double worst_linear = 0;
+  for (const double s : {-0.1, 0.0, 0.17, 0.5, 0.99, 1.7, 2.0, 2.05})
+    worst_linear = std::max({worst_linear, (linear(s) - (a + s * b)).cwiseAbs().maxCoeff(),
+                             (cubic_of_line(s) - (a + s * b)).cwiseAbs().maxCoeff()});
+  EXPECT_LT(worst_linear, 1e-15);
+
+  const double pi = std::acos(-1.0);
+  std::vector<double> errors, hs;
+  double node_error = 0, kink = 0;
+  for (const int n : {16, 32, 64, 128}) {
+    std::vector<double> tn;
+    std::vector<Vec3<double>> Mn;
+    for (int i = 0; i <= n; ++i) {
+      tn.push_back(2 * pi * i / n);
+      Mn.emplace_back(std::sin(tn.back()), std::cos(tn.back()), 1.0);
+    }
+    const TorqueTable spline(tn, Mn, Interp::cubic);
+    for (int i = 0; i <= n; ++i) node_error = std::max(node_error, (spline(tn[static_cast<std::size_t>(i)]) - Mn[static_cast<std::size_t>(i)]).cwiseAbs().maxCoeff());
+    double e = 0;
+    for (int k = 0; k <= 1000; ++k) {
+      const double s = pi / 2 + pi * k / 1000;
+      e = std::max(e, (spline(s) - Vec3<double>(std::sin(s), std::cos(s), 1.0)).cwiseAbs().maxCoeff());
+    }
+    errors.push_back(e);
+    hs.push_back(2 * pi / n);
+    using Jet = ceres::Jet<double, 1>;
+    const std::size_t mid = static_cast<std::size_t>(n / 2);
+    const Vec3<Jet> left = spline(Jet(tn[mid] - 1e-13, 0)), right = spline(Jet(tn[mid], 0));
+    for (int j = 0; j < 3; ++j) kink = std::max(kink, std::abs(left(j).v(0) - right(j).v(0)));
+  }
+  const double order = test::fitted_order(hs, errors);
+  std::printf("natural cubic spline of sin on [pi/2, 3pi/2]: errors %.2e .. %.2e, order %.3f; nodes to %.1e; jump of "
+              "M' at a node %.1e\n", errors.front(), errors.back(), order, node_error, kink);
+  EXPECT_NEAR(order, 4.0, 0.2);
+  EXPECT_LT(node_error, 1e-15);
+  EXPECT_LT(kink, 1e-10);
+
+  EXPECT_THROW(TorqueTable({0.0}, {a}, Interp::linear), std::invalid_argument);
+  EXPECT_THROW(TorqueTable({0.0, 1.0, 1.0}, {a, a, a}, Interp::cubic), std::invalid_argument);
+  EXPECT_THROW(TorqueTable({0.0, 1.0}, {a, Vec3<double>(0, std::nan(""), 0)}, Interp::linear), std::invalid_argument);
+}
+
+// A body under a tabulated laboratory-frame torque (with gravity and damping): RKMK4 and the forced LGVI at their
+// orders when the steps end on the table's times (the interpolant is a polynomial inside each step); RKMK4 drops to
+// order 2 with steps that straddle the linear table's kinks (the header's warning).
+TEST(StateTorqueOrder, TabulatedTorqueAtTheMethodsOrders) {
+  const auto body_with = [](TorqueTable::Interpolation interpolation) {
+    TorquedBody<double> b = every_term_body();
+    b.has_control = b.has_constant = false;
+    std::vector<double> t;
+    std::vector<Vec3<double>> M;
+    for (int i = 0; i <= 8; ++i) {
+      t.push_back(0.25 * i);
+      M.emplace_back(0.3 * std::sin(2.0 * t.back()), 0.2 * std::cos(3.0 * t.back()), 0.1 * t.back());
+    }
+    b.table = std::make_shared<const TorqueTable>(t, M, interpolation);
+    b.table_in_lab = true;
+    b.has_table = true;
+    return b;
+  };
+  const State<double> x0 = test::skew_initial_state();
+  const auto order_with = [&]<template <class> class Method>(const TorquedBody<double>& b, const test::Reference& ref,
+                                                             std::initializer_list<int> ns) {
+    std::vector<double> hs, errors;
+    for (const int n : ns) {
+      Method<TorquedBody<double>> stepper(b);
+      State<double> x = x0;
+      EXPECT_EQ(integrate_to(stepper, x, 0.0, 2.0 / n, 2.0).status, RunStatus::completed);
+      hs.push_back(2.0 / n);
+      errors.push_back(test::distance(x.cast<long double>(), ref.x));
+    }
+    return test::fitted_order(hs, errors);
+  };
+  for (const auto interpolation : {TorqueTable::Interpolation::linear, TorqueTable::Interpolation::cubic}) {
+    const TorquedBody<double> b = body_with(interpolation);
+    const test::Reference ref = test::make_reference(b, x0, 2.0);
+    const char* name = interpolation == TorqueTable::Interpolation::linear ? "linear" : "cubic";
+    const double rkmk4 = order_with.template operator()<Rkmk4>(b, ref, {16, 32, 64, 128});
+    const double lgvi = order_with.template operator()<Lgvi>(b, ref, {64, 128, 256, 512});
+    std::printf("%-6s table, steps on its times: rkmk4 order %.3f, lgvi %.3f\n", name, rkmk4, lgvi);
+    EXPECT_NEAR(rkmk4, 4.0, 0.2) << name;
+    EXPECT_NEAR(lgvi, 2.0, 0.2) << name;
+    if (interpolation == TorqueTable::Interpolation::linear) {
+      const double straddling = order_with.template operator()<Rkmk4>(b, ref, {25, 51, 101, 203});  // odd n: no kink on the grid
+      std::printf("linear table, steps across its kinks (odd step counts): rkmk4 order %.3f\n", straddling);
+      EXPECT_LT(straddling, 3.0);
+    }
+  }
 }
 
 // Symmetric: a step of h and then of −h from the end returns to the start, to round-off (the forcing, time-dependent

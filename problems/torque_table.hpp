@@ -1,0 +1,117 @@
+/// \file
+/// lgi/problems/torque_table.hpp — a torque given as a table of samples M(t_i), interpolated in time: the replay of a
+/// measured or precomputed disturbance (problems/torqued_body.hpp, the scene's "table" torque term).
+///
+/// Samples (t_i, M_i), i = 0 … n−1, n ≥ 2, t_i strictly increasing; on [t_i, t_{i+1}] with u = t − t_i, h_i = t_{i+1} − t_i:
+///
+/// ~~~{.unparsed}
+///   linear:  M(t) = M_i + u (M_{i+1} − M_i) / h_i                                     (C⁰; kinks at the t_i)
+///   cubic:   M(t) = M_i + u ((M_{i+1} − M_i)/h_i − h_i (2 m_i + m_{i+1})/6) + u² m_i/2 + u³ (m_{i+1} − m_i)/(6 h_i)
+/// ~~~
+///
+/// with m_i = M''(t_i) the natural cubic spline's second derivatives (C²; m_0 = m_{n−1} = 0, the tridiagonal system
+/// h_{i−1} m_{i−1} + 2(h_{i−1} + h_i) m_i + h_i m_{i+1} = 6((M_{i+1} − M_i)/h_i − (M_i − M_{i−1})/h_{i−1}) solved by the
+/// Thomas algorithm; de Boor, A Practical Guide to Splines, rev. ed. (2001), ch. IV). An integrator of order p sees
+/// the interpolant's smoothness: across a kink of the linear table the local error is O(h²) whatever p, so methods
+/// above order 2 keep their order only with steps that end on the t_i; the cubic spline's third derivative jumps at
+/// the t_i, which bounds the observed order by 4 in the same way.
+///
+/// Outside [t_0, t_{n−1}] the first or last interval's polynomial continues: the scene loader refuses a run whose
+/// [0, t_end] leaves the table, so only sub-steps that probe beyond a step's end (compositions with a first
+/// coefficient above 1) reach it, by less than a step.
+#pragma once
+
+#include "../core/scalar.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace lgi {
+
+/// A body- or laboratory-frame torque table (this header). Immutable after construction; shared by the copies of a
+/// problem (its cast to Jets included: the samples are data, not parameters).
+class TorqueTable {
+ public:
+  /// How the samples are joined (this header's formulas).
+  enum class Interpolation {
+    linear,  ///< straight lines, C⁰
+    cubic,   ///< the natural cubic spline, C²
+  };
+
+  /// The samples; std::invalid_argument unless there are ≥ 2, of equal count, finite, with t strictly increasing.
+  /// `source` names where they came from (the file's path, for messages and checkpoints); `digest`
+  /// is a hash of the bytes they were read from (checkpoints compare it), 0 if none.
+  TorqueTable(std::vector<double> t, std::vector<Vec3<double>> M, Interpolation interpolation, std::string source = {},
+              std::uint64_t digest = 0)
+      : t_(std::move(t)), M_(std::move(M)), interpolation_(interpolation), source_(std::move(source)), digest_(digest) {
+    if (t_.size() < 2 || t_.size() != M_.size())
+      throw std::invalid_argument("lgi::TorqueTable: needs at least 2 samples, as many times as torques");
+    for (std::size_t i = 0; i < t_.size(); ++i) {
+      if (!std::isfinite(t_[i]) || !M_[i].allFinite())
+        throw std::invalid_argument("lgi::TorqueTable: sample " + std::to_string(i) + " is not finite");
+      if (i > 0 && !(t_[i] > t_[i - 1]))
+        throw std::invalid_argument("lgi::TorqueTable: times must increase strictly (sample " + std::to_string(i) + ")");
+    }
+    m_.assign(t_.size(), Vec3<double>::Zero());
+    if (interpolation_ == Interpolation::cubic && t_.size() > 2) solve_spline();
+  }
+
+  /// M(t), body or laboratory frame as the table's user says (this header's formulas). No allocation; the interval
+  /// by binary search on value_of(t).
+  template <class T>
+  Vec3<T> operator()(const T& t) const {
+    const double tv = static_cast<double>(value_of(t));
+    const std::size_t n = t_.size();
+    std::size_t i = static_cast<std::size_t>(std::upper_bound(t_.begin(), t_.end(), tv) - t_.begin());
+    i = std::clamp<std::size_t>(i == 0 ? 0 : i - 1, 0, n - 2);
+    const double h = t_[i + 1] - t_[i];
+    const T u = t - T(t_[i]);
+    const Vec3<double> slope = (M_[i + 1] - M_[i]) / h;
+    if (interpolation_ == Interpolation::linear) return M_[i].template cast<T>() + u * slope.template cast<T>();
+    const Vec3<double> c1 = slope - h * (2 * m_[i] + m_[i + 1]) / 6, c2 = m_[i] / 2, c3 = (m_[i + 1] - m_[i]) / (6 * h);
+    return M_[i].template cast<T>() + u * (c1.template cast<T>() + u * (c2.template cast<T>() + u * c3.template cast<T>()));
+  }
+
+  double t_first() const { return t_.front(); }     ///< t_0
+  double t_last() const { return t_.back(); }       ///< t_{n−1}
+  std::size_t size() const { return t_.size(); }    ///< n
+  Interpolation interpolation() const { return interpolation_; }  ///< linear or cubic
+  const std::string& source() const { return source_; }  ///< where the samples came from (messages)
+  std::uint64_t digest() const { return digest_; }        ///< hash of the bytes they were read from, 0 if none
+
+ private:
+  // The natural spline's m_1 … m_{n−2} (m_0 = m_{n−1} = 0), Thomas algorithm on the diagonally dominant system.
+  void solve_spline() {
+    const std::size_t n = t_.size();
+    std::vector<double> diag(n, 1.0), upper(n, 0.0);
+    std::vector<Vec3<double>> rhs(n, Vec3<double>::Zero());
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+      const double h0 = t_[i] - t_[i - 1], h1 = t_[i + 1] - t_[i];
+      const double lower = (i == 1) ? 0.0 : h0;  // m_0 = 0 drops out of the first row
+      diag[i] = 2 * (h0 + h1);
+      upper[i] = (i + 2 == n) ? 0.0 : h1;         // m_{n−1} = 0 drops out of the last row
+      rhs[i] = 6 * ((M_[i + 1] - M_[i]) / h1 - (M_[i] - M_[i - 1]) / h0);
+      if (i > 1) {  // eliminate m_{i−1}
+        const double w = lower / diag[i - 1];
+        diag[i] -= w * upper[i - 1];
+        rhs[i] -= w * rhs[i - 1];
+      }
+    }
+    for (std::size_t i = n - 2; i >= 1; --i) m_[i] = (rhs[i] - upper[i] * m_[i + 1]) / diag[i];
+  }
+
+  std::vector<double> t_;
+  std::vector<Vec3<double>> M_;
+  std::vector<Vec3<double>> m_;  ///< the spline's second derivatives (zero for a linear table)
+  Interpolation interpolation_;
+  std::string source_;
+  std::uint64_t digest_ = 0;
+};
+
+}  // namespace lgi
