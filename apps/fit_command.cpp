@@ -217,7 +217,7 @@ fit::FitResult<P> solve(const P& problem, const FitSpec& spec) {
 
 // The (method, problem) pairs `lgi fit` offers: those of LGI_FIT_OBSERVATION_FITS and LGI_FIT_PERIODIC_FITS.
 constexpr std::string_view fit_methods = "lgvi, rkmk4";
-constexpr std::string_view fit_problems = "free_body, heavy_top";
+constexpr std::string_view fit_problems = "free_body, heavy_top, rigid_body (lgvi, observations)";
 
 }  // namespace
 
@@ -276,9 +276,7 @@ int fit_command(const FitCommandOptions& options) {
   std::string report, full_report, reason;
   bool usable = false, budget = false;
   try {
-    const auto fit_with = [&](const auto& problem) {
-      using P = std::decay_t<decltype(problem)>;
-      const fit::FitResult<P> r = method == "lgvi" ? solve<Lgvi>(problem, spec) : solve<Rkmk4>(problem, spec);
+    const auto report_fit = [&](const auto& r) {
       result = result_json(spec, r, file);
       report = brief(spec, r, file);
       full_report = r.full_report;
@@ -286,13 +284,27 @@ int fit_command(const FitCommandOptions& options) {
       budget = r.budget_exhausted;
       if (!usable) reason = unusable_reason(spec, r);
     };
+    const auto fit_with = [&](const auto& problem) {
+      report_fit(method == "lgvi" ? solve<Lgvi>(problem, spec) : solve<Rkmk4>(problem, spec));
+    };
     bool offered = true;
-    if (const auto* body = problem_as<FreeBody<double>>(*spec.scene.problem))
+    if (const auto* body = problem_as<FreeBody<double>>(*spec.scene.problem)) {
       fit_with(*body);
-    else if (const auto* top = problem_as<HeavyTop<double>>(*spec.scene.problem))
+    } else if (const auto* top = problem_as<HeavyTop<double>>(*spec.scene.problem)) {
       fit_with(*top);
-    else
+    } else if (const auto* torqued = problem_as<TorquedBody<double>>(*spec.scene.problem)) {
+      // Damping and control do work: no periodic orbits in general; one method (the forced LGVI) for compile time.
+      if (spec.periodic)
+        return fail(exit_bad_input, file + ": /fit/periodic: lgi fit offers rigid_body with observations only (its "
+                                           "torque reads the angular velocity: no periodic orbits in general)");
+      if (method != "lgvi")
+        return fail(exit_bad_input, file + ": /integrator/method: lgi fit offers rigid_body with the method lgvi "
+                                           "(got \"" + method + "\"; the library lgi::fit takes any)");
+      report_fit(fit::fit_observations<Lgvi, 8>(*torqued, spec.scene.initial, spec.unknowns, spec.observations,
+                                                spec.options));
+    } else {
       offered = false;
+    }
     if (!offered)
       return fail(exit_bad_input, file + ": /problem/type: lgi fit offers the problems " + std::string(fit_problems) +
                                       " (a Lagrange or Kovalevskaya top is a heavy_top with its data; the library lgi::fit "

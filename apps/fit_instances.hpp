@@ -20,6 +20,7 @@
 #include <lgi/integrators/splitting.hpp>
 #include <lgi/problems/free_body.hpp>
 #include <lgi/problems/heavy_top.hpp>
+#include <lgi/problems/torqued_body.hpp>
 
 // One Jet size, N = 8, for every fit of the tests (8 covers Ω0, R0 and two moments in one pass; the gradient
 // test's 12 tangent coordinates take two): each (method, problem) is instantiated once, not once per N.
@@ -30,13 +31,15 @@
   X(1, Rkmk4, FreeBody<double>, 8)    \
   X(2, Rkmk4, HeavyTop<double>, 8)    \
   X(2, SplitDmv, HeavyTop<double>, 8) \
-  X(2, SplitAxes, HeavyTop<double>, 8)
+  X(2, SplitAxes, HeavyTop<double>, 8) \
+  X(2, Lgvi, TorquedBody<double>, 8)
 // fit_observations (`lgi fit`; test_fit_omega, _observations, _inertia):
 #define LGI_FIT_OBSERVATION_FITS(X) \
   X(1, Lgvi, HeavyTop<double>, 8)        \
   X(1, Lgvi, FreeBody<double>, 8)        \
   X(1, Rkmk4, FreeBody<double>, 8)       \
-  X(2, Rkmk4, HeavyTop<double>, 8)
+  X(2, Rkmk4, HeavyTop<double>, 8)       \
+  X(2, Lgvi, TorquedBody<double>, 8)
 // fit_periodic (`lgi fit`; test_fit_periodic):
 #define LGI_FIT_PERIODIC_FITS(X) \
   X(1, Lgvi, HeavyTop<double>, 8)     \

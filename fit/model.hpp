@@ -12,6 +12,12 @@
 ///   problem.z0       z0 ∈ S²                      S2Manifold
 ///   period           T (periodic orbits)          the step is T/N for a fixed N
 ///   phase            φ (periodic orbits, heavy top): R(T) = Exp(φ k) R0
+///   problem.damping      c ≥ 0 of C = c I         a problem with damping (problems/torqued_body.hpp); the base
+///                                                 scene's C must be c I (or absent: c starts at 0)
+///   problem.body_torque  M_body ∈ R³              a constant body-frame torque (a disturbance), Euclidean
+///   problem.lab_torque   M_lab ∈ R³               a constant laboratory-frame torque, Euclidean
+///   problem.k_R          k_R ≥ 0                  the attitude controller's gains (the scene's attitude_control)
+///   problem.k_Omega      k_Ω ≥ 0
 /// ~~~
 ///
 /// Derivatives. Ceres asks for ∂r/∂x in the ambient coordinates x of each parameter block (9 for R0, 3 for z0)
@@ -78,9 +84,9 @@ struct Unknown {
 };
 
 /// The parameter blocks of a fit, one per unknown of the header's table, in this order.
-enum class Block : int { omega = 0, R, inertia, b, z0, period, phase };
+enum class Block : int { omega = 0, R, inertia, b, z0, period, phase, damping, body_torque, lab_torque, k_R, k_Omega };
 /// The number of Block values.
-inline constexpr int block_count = 7;
+inline constexpr int block_count = 12;
 
 /// A parameter block's scene name and sizes.
 struct BlockInfo {
@@ -98,6 +104,11 @@ inline constexpr std::array<BlockInfo, block_count> block_info{{
     {"problem.z0", 3, 2, false},
     {"period", 1, 1, true},
     {"phase", 1, 1, true},
+    {"problem.damping", 1, 1, true},
+    {"problem.body_torque", 3, 3, true},
+    {"problem.lab_torque", 3, 3, true},
+    {"problem.k_R", 1, 1, true},
+    {"problem.k_Omega", 1, 1, true},
 }};
 
 /// The unknowns' names, comma-separated (for messages).
@@ -121,6 +132,16 @@ inline constexpr bool has_b_v = requires(P p) { p.b; };
 /// True when problem P has a member z0 (then problem.z0 can be an unknown).
 template <class P>
 inline constexpr bool has_z0_v = requires(P p) { p.z0; };
+/// True when problem P has a damping matrix C with its flag (then problem.damping can be an unknown).
+template <class P>
+inline constexpr bool has_damping_v = requires(P p) { p.damping; p.has_damping; };
+/// True when problem P has constant body- and laboratory-frame torques with their flag (problem.body_torque,
+/// problem.lab_torque).
+template <class P>
+inline constexpr bool has_constant_torque_v = requires(P p) { p.body_torque; p.lab_torque; p.has_constant; };
+/// True when problem P has an attitude controller's gains with its flag (problem.k_R, problem.k_Omega).
+template <class P>
+inline constexpr bool has_gains_v = requires(P p) { p.k_R; p.k_Omega; p.has_control; };
 /// True when problem P has a vertical k (the about_k symmetry of periodic orbits).
 template <class P>
 inline constexpr bool has_k_v = requires(P p) { p.k; };
@@ -195,6 +216,28 @@ class Model {
     else values_[idx(Block::z0)] = {0.0, 0.0, 1.0};
     values_[idx(Block::period)] = {period};
     values_[idx(Block::phase)] = {phase};
+    values_[idx(Block::damping)] = {0.0};
+    if constexpr (has_damping_v<P>) {
+      // C = c I: its diagonal's first entry; any other C is flagged (an error if problem.damping is an unknown).
+      const Mat3<double> C = problem.has_damping ? Mat3<double>(problem.damping) : Mat3<double>::Zero();
+      values_[idx(Block::damping)] = {C(0, 0)};
+      isotropic_damping_ = C == C(0, 0) * Mat3<double>::Identity();
+    }
+    values_[idx(Block::body_torque)] = {0.0, 0.0, 0.0};
+    values_[idx(Block::lab_torque)] = {0.0, 0.0, 0.0};
+    if constexpr (has_constant_torque_v<P>) {
+      if (problem.has_constant) {
+        values_[idx(Block::body_torque)] = {problem.body_torque(0), problem.body_torque(1), problem.body_torque(2)};
+        values_[idx(Block::lab_torque)] = {problem.lab_torque(0), problem.lab_torque(1), problem.lab_torque(2)};
+      }
+    }
+    values_[idx(Block::k_R)] = {0.0};
+    values_[idx(Block::k_Omega)] = {0.0};
+    if constexpr (has_gains_v<P>) {
+      values_[idx(Block::k_R)] = {static_cast<double>(problem.k_R)};
+      values_[idx(Block::k_Omega)] = {static_cast<double>(problem.k_Omega)};
+      has_controller_ = problem.has_control;
+    }
     if (options_.mode == Mode::periodic) {
       if (!(period > 0) || !std::isfinite(period)) throw FitInputError("period", "must be a finite number > 0");
       resolve_symmetry();
@@ -319,6 +362,24 @@ class Model {
         for (int k = 0; k < 2; ++k) d(k) = var(0.0, ti[idx(Block::z0)][k]);
         s.problem.z0 = s2_plus(Vec3<T>(zd.template cast<T>()), Eigen::Matrix<T, 3, 2>(s2_basis(zd).template cast<T>()), d);
       }
+    }
+    if constexpr (has_damping_v<P>) {
+      if (is_active(Block::damping)) {
+        s.problem.damping = var(p(Block::damping)[0], ti[idx(Block::damping)][0]) * Mat3<T>::Identity();
+        s.problem.has_damping = true;
+      }
+    }
+    if constexpr (has_constant_torque_v<P>) {
+      for (const Block b : {Block::body_torque, Block::lab_torque}) {
+        if (!is_active(b)) continue;
+        Vec3<T>& M = b == Block::body_torque ? s.problem.body_torque : s.problem.lab_torque;
+        for (int k = 0; k < 3; ++k) M(k) = var(p(b)[k], ti[idx(b)][k]);
+        s.problem.has_constant = true;
+      }
+    }
+    if constexpr (has_gains_v<P>) {
+      if (is_active(Block::k_R)) s.problem.k_R = var(p(Block::k_R)[0], ti[idx(Block::k_R)][0]);
+      if (is_active(Block::k_Omega)) s.problem.k_Omega = var(p(Block::k_Omega)[0], ti[idx(Block::k_Omega)][0]);
     }
     s.period = var(p(Block::period)[0], ti[idx(Block::period)][0]);
     s.phase = var(p(Block::phase)[0], ti[idx(Block::phase)][0]);
@@ -482,6 +543,7 @@ class Model {
     for (auto& l : lower_) l.fill(-std::numeric_limits<double>::infinity());
     for (auto& u : upper_) u.fill(std::numeric_limits<double>::infinity());
     if constexpr (has_b_v<P>) lower_[idx(Block::b)][0] = 0;  // b ≥ 0
+    for (const Block b : {Block::damping, Block::k_R, Block::k_Omega}) lower_[idx(b)][0] = 0;  // c, k_R, k_Ω ≥ 0
     std::array<bool, block_count> listed{};
     std::array<std::array<bool, 3>, block_count> free{};
     for (std::size_t u = 0; u < unknowns.size(); ++u) {
@@ -495,8 +557,16 @@ class Model {
       const Block block = static_cast<Block>(b);
       if (listed[b]) throw FitInputError(at + ".name", "'" + un.name + "' is listed twice");
       listed[b] = true;
-      if ((block == Block::b && !has_b_v<P>) || (block == Block::z0 && !has_z0_v<P>))
+      if ((block == Block::b && !has_b_v<P>) || (block == Block::z0 && !has_z0_v<P>) ||
+          (block == Block::damping && !has_damping_v<P>) ||
+          ((block == Block::body_torque || block == Block::lab_torque) && !has_constant_torque_v<P>) ||
+          ((block == Block::k_R || block == Block::k_Omega) && !has_gains_v<P>))
         throw FitInputError(at + ".name", "'" + un.name + "' does not apply to problem " + std::string(P::name));
+      if (block == Block::damping && !isotropic_damping_)
+        throw FitInputError(at + ".name", "'problem.damping' fits c of C = c I; the scene's damping matrix is not a "
+                                          "multiple of I");
+      if ((block == Block::k_R || block == Block::k_Omega) && !has_controller_)
+        throw FitInputError(at + ".name", "'" + un.name + "' needs the scene's attitude_control term (its target)");
       if (block == Block::period && options_.mode != Mode::periodic)
         throw FitInputError(at + ".name", "'period' is an unknown of periodic-orbit fits only");
       if (block == Block::phase && (options_.mode != Mode::periodic || options_.symmetry != PeriodicSymmetry::about_k))
@@ -572,6 +642,8 @@ class Model {
   std::vector<int> time_index_;   ///< observation → index in times_
   std::array<std::vector<double>, block_count> values_;
   std::array<std::array<int, 3>, block_count> tangent_index_{};
+  bool isotropic_damping_ = true;  ///< the base C is c I (problem.damping may be an unknown)
+  bool has_controller_ = false;    ///< the base problem has an attitude controller (problem.k_R, k_Omega)
   std::array<std::array<double, 9>, block_count> lower_{}, upper_{};
   std::array<std::unique_ptr<ceres::Manifold>, block_count> manifolds_;
   std::vector<Block> active_;

@@ -427,6 +427,50 @@ TEST_F(CliFit, BadFitFilesGetOneMessageNamingThePath) {
   }
 }
 
+// A damped body under a constant disturbance (`rigid_body`): `lgi run` writes its attitudes with the forced LGVI,
+// `lgi fit` recovers the damping coefficient and the disturbance from them (noise-free: to round-off); rkmk4 and a
+// periodic fit of rigid_body are refused with one line naming the JSON path.
+TEST_F(CliFit, RecoversDampingAndDisturbanceOfARigidBody) {
+  const std::string problem = R"("problem": {"type": "rigid_body", "inertia": [0.9, 1.3, 1.7],
+      "torques": [{"type": "damping", "coefficient": DAMPING}, {"type": "constant", "frame": "body", "torque": TORQUE}]})";
+  const auto scene = [&](const std::string& damping, const std::string& torque, const std::string& method) {
+    std::string p = problem;
+    p.replace(p.find("DAMPING"), 7, damping);
+    p.replace(p.find("TORQUE"), 6, torque);
+    return "{" + p + R"(, "initial": {"omega": [0.7, -0.4, 1.1]}, "integrator": {"method": ")" + method +
+           R"(", "dt": 0.02}, "t_end": 10, "output": {"every": 10})";
+  };
+  write("truth.json", scene("0.15", "[0.02, -0.03, 0.015]", "lgvi") + "}");
+  const Result run = lgi("run " + (dir_ / "truth.json").string() + " -q -o " + (dir_ / "obs.csv").string());
+  ASSERT_EQ(run.status, 0) << run.err;
+  const std::string fit = R"(, "fit": {"unknowns": ["problem.damping", "problem.body_torque"],
+                                       "observations": {"csv": "obs.csv", "sigma_attitude": 1e-3}}})";
+  write("fit.json", scene("0.05", "[0, 0, 0]", "lgvi") + fit);
+  const Result r = lgi("fit " + (dir_ / "fit.json").string() + " -o " + (dir_ / "result.json").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json res = json::parse(slurp(dir_ / "result.json"));
+  const double c = res.at("problem").at("damping").get<double>();
+  const Eigen::Vector3d M = vec_of(res.at("problem").at("body_torque"));
+  const double error = std::max(std::abs(c - 0.15), (M - Eigen::Vector3d(0.02, -0.03, 0.015)).cwiseAbs().maxCoeff());
+  std::printf("lgi fit, rigid_body: c = %.15f, M_body = (%.15f, %.15f, %.15f), largest error %.2e, %d iterations\n", c,
+              M(0), M(1), M(2), error, res.at("iterations").get<int>());
+  EXPECT_LT(error, 1e-10);
+  EXPECT_TRUE(res.at("usable").get<bool>());
+
+  write("rkmk4.json", scene("0.05", "[0, 0, 0]", "rkmk4") + fit);
+  Result bad = lgi("fit " + (dir_ / "rkmk4.json").string());
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_EQ(bad.err, "lgi: error: " + (dir_ / "rkmk4.json").string() +
+                         ": /integrator/method: lgi fit offers rigid_body with the method lgvi (got \"rkmk4\"; the "
+                         "library lgi::fit takes any)\n");
+  write("periodic.json", scene("0.05", "[0, 0, 0]", "lgvi") +
+                             R"(, "fit": {"unknowns": ["initial.omega"], "periodic": {"period": 3}}})");
+  bad = lgi("fit " + (dir_ / "periodic.json").string());
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_NE(bad.err.find("/fit/periodic: lgi fit offers rigid_body with observations only"), std::string::npos)
+      << bad.err;
+}
+
 TEST_F(CliFit, MethodsAndProblemsOutsideTheCompiledSetAreNamed) {
   const std::string obs = R"("fit": {"unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": 1}]})";
   write("method.json", R"({"problem": {"type": "free_body", "inertia": [1, 2, 2.5]}, "initial": {"omega": [1, 2, 3]},
