@@ -286,42 +286,53 @@ TEST(StateTorqueOrder, Baselines) {
   expect_order<Dop853MatRenorm>();
 }
 
-// E(T) − E(0) − W(T), W the work of the non-conservative torque along the discrete trajectory (composite Simpson on
-// the step grid, order 4): the defect converges at order min(4, the method's) — 4 for RKMK4 and Verner 9(8) in
-// Cayley coordinates.
-template <template <class> class M>
+// E(T) − E(0) − W(T), W the work of the non-conservative torque along the discrete trajectory: the power Ω·M_nc at
+// the steps, integrated by the composite 9-point closed Newton–Cotes rule (degree 9: error O(h¹⁰) on the smooth data
+// a method's steps are; Abramowitz & Stegun 25.4.20). The defect converges at the method's order where the
+// quadrature's error stays below the method's own: up to order 5 here. For orders 8 and 9 it does not on this grid
+// (at n = 16 … 48 both defects are the quadrature's, 5.4e-7 … 1.6e-13, slope 12.5, identical for DOP853 and Verner
+// 9(8)), and at the step counts where it would, their defect is below long double's round-off: measuring their
+// balance needs the work accumulated with the method's own stages, or binary128.
+template <template <class> class M, class S>
 double energy_balance_defect(int n) {
-  const P p = driven_damped_skew_top();
-  const double T = 2.0, h = T / n;
-  M<P> stepper(p);
-  State<double> x = test::skew_initial_state();
-  std::vector<double> power;
-  const double E0 = energy(p, x);
-  const auto observe = [&](double t, const State<double>& y) { power.push_back(p.power(t, y.Omega)); };
-  EXPECT_EQ(integrate_every(stepper, x, 0.0, h, T, 1, observe).status, RunStatus::completed);
+  const auto p = driven_damped_skew_top().template cast<S>();
+  using PS = std::decay_t<decltype(p)>;
+  const S T = S(2), h = T / S(n);
+  M<PS> stepper(p);
+  const State<double> x0 = test::skew_initial_state();
+  State<S> x{x0.R.template cast<S>(), x0.Omega.template cast<S>()};
+  std::vector<S> power;
+  const S E0 = energy(p, x);
+  const auto observe = [&](const S& t, const State<S>& y) { power.push_back(p.power(t, y.Omega)); };
+  EXPECT_EQ(integrate_every(stepper, x, S(0), h, T, 1, observe).status, RunStatus::completed);
   EXPECT_EQ(static_cast<int>(power.size()), n + 1);
-  double work = power.front() + power.back();
-  for (int i = 1; i < n; ++i) work += (i % 2 ? 4.0 : 2.0) * power[static_cast<std::size_t>(i)];
-  work *= h / 3;
-  return std::abs(energy(p, x) - E0 - work);
+  EXPECT_EQ(n % 8, 0);
+  static constexpr double w[9] = {989, 5888, -928, 10496, -4540, 10496, -928, 5888, 989};
+  S work = S(0);
+  for (int panel = 0; panel + 8 <= n; panel += 8)
+    for (int k = 0; k <= 8; ++k) work += S(w[k]) * power[static_cast<std::size_t>(panel + k)];
+  work *= S(4) * h / S(14175);
+  using std::abs;
+  return static_cast<double>(abs(energy(p, x) - E0 - work));
 }
 
-template <template <class> class M>
-void expect_energy_balance(const char* label) {
+template <template <class> class M, class S = double>
+double energy_balance_order(const char* label, std::initializer_list<int> ns) {
   std::vector<double> hs, defects;
-  for (const int n : {40, 80, 160, 320}) {
+  for (const int n : ns) {
     hs.push_back(2.0 / n);
-    defects.push_back(energy_balance_defect<M>(n));
+    defects.push_back(energy_balance_defect<M, S>(n));
   }
   const double order = test::fitted_order(hs, defects);
-  std::printf("%-18s energy balance defect %.3e .. %.3e, observed order %.3f\n", label, defects.front(),
-              defects.back(), order);
-  EXPECT_NEAR(order, 4.0, 0.2) << label;
+  std::printf("%-18s energy balance defect %.3e .. %.3e, observed order %.3f (declared %d)\n", label, defects.front(),
+              defects.back(), order, M<P>::traits.order);
+  return order;
 }
 
-TEST(StateTorqueEnergy, BalanceWithTheWorkOfTheTorqueConverges) {
-  expect_energy_balance<Rkmk4>("rkmk4");
-  expect_energy_balance<RkmkVern9Cayley>("rkmk_vern9_cayley");
+TEST(StateTorqueEnergy, BalanceWithTheWorkOfTheTorqueConvergesAtTheMethodsOrder) {
+  EXPECT_NEAR(energy_balance_order<Rkmk4>("rkmk4", {40, 80, 160, 320}), 4.0, 0.2);
+  EXPECT_NEAR(energy_balance_order<RkmkDp5>("rkmk_dp5", {64, 96, 128, 192, 256}), 5.0, 0.2);
+  EXPECT_NEAR(energy_balance_order<Cf4>("cf4", {40, 80, 160, 320}), 4.0, 0.2);
 }
 
 // The forced LGVI's own discrete work: its forcing is ½h M_nc at each end of a step, so the work it does is the
