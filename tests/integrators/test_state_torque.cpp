@@ -287,8 +287,9 @@ TEST(StateTorqueOrder, Baselines) {
 }
 
 // E(T) − E(0) − W(T), W the work of the non-conservative torque along the discrete trajectory: the power Ω·M_nc at
-// the steps, integrated by the composite 9-point closed Newton–Cotes rule (degree 9: error O(h¹⁰) on the smooth data
-// a method's steps are; Abramowitz & Stegun 25.4.20). The defect converges at the method's order where the
+// the steps, integrated by the composite 9-point closed Newton–Cotes rule (weights 4h/14175 · (989, 5888, −928,
+// 10496, −4540, …), exact for polynomials of degree ≤ 9: error O(h¹⁰) on the smooth data a method's steps are). The
+// defect converges at the method's order where the
 // quadrature's error stays below the method's own: up to order 5 here. For orders 8 and 9 it does not on this grid
 // (at n = 16 … 48 both defects are the quadrature's, 5.4e-7 … 1.6e-13, slope 12.5, identical for DOP853 and Verner
 // 9(8)), and at the step counts where it would, their defect is below long double's round-off: measuring their
