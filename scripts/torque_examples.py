@@ -1,0 +1,167 @@
+#!/usr/bin/python3
+"""Runs the examples of torques that do work and plots them (docs/torques.md), in one command:
+
+    /usr/bin/python3 scripts/torque_examples.py [--lgi build/lgi]
+
+For each of scenes/damped_top.json, scenes/attitude_slew.json and scenes/torque_replay.json it writes a copy of the
+scene with dense outputs into a temporary directory (the scenes themselves are read, never written; a torque table's
+path is made absolute in the copy), runs `lgi run` on it and draws docs/img/torque_<name>.png from the CSV. The
+figures' numbers that docs/torques.md quotes are printed. Needs matplotlib (Debian: python3-matplotlib, under
+/usr/bin/python3) and numpy.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def run(lgi, scene_path, every, workdir):
+    """The scene's rows at every `every`-th step (the scene otherwise unchanged)."""
+    with open(scene_path) as f:
+        scene = json.load(f)
+    scene["output"] = {"every": every}
+    for term in scene["problem"].get("torques", []):
+        if term.get("type") == "table" and not os.path.isabs(term["file"]):
+            term["file"] = os.path.join(os.path.dirname(os.path.abspath(scene_path)), term["file"])
+    name = os.path.splitext(os.path.basename(scene_path))[0]
+    copy = os.path.join(workdir, name + ".json")
+    out = os.path.join(workdir, name + ".csv")
+    with open(copy, "w") as f:
+        json.dump(scene, f)
+    subprocess.run([lgi, "run", "-q", copy, "-o", out], check=True)
+    with open(out) as f:
+        rows = list(csv.DictReader(f))
+    cols = {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+    cols["R"] = np.stack([np.array([[float(r["R%d%d" % (i, j)]) for j in (1, 2, 3)] for i in (1, 2, 3)]) for r in rows])
+    cols["omega"] = np.stack([cols["omega1"], cols["omega2"], cols["omega3"]], axis=1)
+    return scene, cols
+
+
+def angle(R):
+    """The rotation angle of R (rad), robust near 0 and pi."""
+    return math.atan2(np.linalg.norm([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]]) / 2, (np.trace(R) - 1) / 2)
+
+
+def quaternion_matrix(q):
+    w, x, y, z = q / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def axis_angle_matrix(a):
+    axis = np.array(a["axis"], dtype=float)
+    axis /= np.linalg.norm(axis)
+    th = math.radians(a["angle"]) if a.get("unit") == "deg" else a["angle"]
+    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + math.sin(th) * K + (1 - math.cos(th)) * K @ K
+
+
+def target_of(scene):
+    for term in scene["problem"]["torques"]:
+        if term["type"] == "attitude_control":
+            t = term["target"]
+            if "R" in t:
+                return np.array(t["R"], dtype=float)
+            if "quaternion" in t:
+                return quaternion_matrix(np.array(t["quaternion"], dtype=float))
+            return axis_angle_matrix(t["axis_angle"])
+    raise ValueError("no attitude_control term")
+
+
+def damped_top(lgi, workdir, png):
+    scene, c = run(lgi, os.path.join(ROOT, "scenes", "damped_top.json"), 100, workdir)
+    t, E = c["t"], c["energy"]
+    k = np.array(scene["problem"]["gravity"]["k"], dtype=float)
+    tilt = np.degrees([math.acos(max(-1.0, min(1.0, float(R[:, 2] @ k)))) for R in c["R"]])
+    rises = np.diff(E)
+    fig, ax = plt.subplots(1, 2, figsize=(10, 3.6))
+    ax[0].plot(t, E)
+    ax[0].set_xlabel("t")
+    ax[0].set_ylabel("energy")
+    ax[0].set_title("damped heavy top: energy (falls by the damping's work)")
+    ax[1].plot(t, tilt)
+    ax[1].set_xlabel("t")
+    ax[1].set_ylabel("angle of the symmetry axis from k (deg)")
+    ax[1].set_title("the top loses its spin and hangs down")
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+    print("damped_top: E from %.6f to %.6f over t = %g; largest change between rows %.3e; axis from k: %.2f deg at "
+          "t = 0, %.2f deg at the end" % (E[0], E[-1], t[-1], rises.max(), tilt[0], tilt[-1]))
+
+
+def attitude_slew(lgi, workdir, png):
+    scene, c = run(lgi, os.path.join(ROOT, "scenes", "attitude_slew.json"), 1, workdir)
+    Rd = target_of(scene)
+    t = c["t"]
+    err = np.array([angle(Rd.T @ R) for R in c["R"]])
+    rate = np.linalg.norm(c["omega"], axis=1)
+    fig, ax = plt.subplots(1, 2, figsize=(10, 3.6))
+    ax[0].semilogy(t, np.degrees(err), marker=".")
+    ax[0].set_xlabel("t (s)")
+    ax[0].set_ylabel("angle to the target (deg)")
+    ax[0].set_title("90 deg PD slew on SO(3): attitude error (adaptive steps)")
+    ax[1].plot(t, rate, marker=".")
+    ax[1].set_xlabel("t (s)")
+    ax[1].set_ylabel("|Omega| (rad/s)")
+    ax[1].set_title("body rate")
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+    print("attitude_slew: %d accepted steps; angle to the target %.1f deg at t = 0, %.3e rad at t = %g; peak |Omega| "
+          "%.4f rad/s" % (len(t) - 1, math.degrees(err[0]), err[-1], t[-1], rate.max()))
+
+
+def torque_replay(lgi, workdir, png):
+    scene, c = run(lgi, os.path.join(ROOT, "scenes", "torque_replay.json"), 10, workdir)
+    t = c["t"]
+    err = np.array([angle(R) for R in c["R"]])  # the target is R = I
+    with open(os.path.join(ROOT, "scenes", "torque_replay.csv")) as f:
+        table = np.array([[float(x) for x in r] for r in list(csv.reader(f))[1:]])
+    k_R = next(term["k_R"] for term in scene["problem"]["torques"] if term["type"] == "attitude_control")
+    predicted = np.max(np.linalg.norm(table[:, 1:], axis=1)) / k_R
+    fig, ax = plt.subplots(1, 2, figsize=(10, 3.6))
+    for i, name in enumerate(("M1", "M2", "M3")):
+        ax[0].plot(table[:, 0], table[:, i + 1], ".", markersize=3, label=name + " (table rows)")
+    ax[0].set_xlabel("t (s)")
+    ax[0].set_ylabel("laboratory-frame torque (N m)")
+    ax[0].set_title("replayed disturbance (torque_replay.csv)")
+    ax[0].legend(fontsize=8)
+    ax[1].plot(t, np.degrees(err))
+    ax[1].axhline(math.degrees(predicted), color="gray", linestyle="--", label="max |M| / k_R")
+    ax[1].set_xlabel("t (s)")
+    ax[1].set_ylabel("pointing error (deg)")
+    ax[1].set_title("PD hold against the disturbance")
+    ax[1].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+    print("torque_replay: pointing error at most %.3e rad (max |M|/k_R = %.3e rad) over t = %g"
+          % (err.max(), predicted, t[-1]))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--lgi", default=os.path.join(ROOT, "build", "lgi"))
+    args = parser.parse_args()
+    img = os.path.join(ROOT, "docs", "img")
+    os.makedirs(img, exist_ok=True)
+    with tempfile.TemporaryDirectory() as workdir:
+        damped_top(args.lgi, workdir, os.path.join(img, "torque_damped_top.png"))
+        attitude_slew(args.lgi, workdir, os.path.join(img, "torque_attitude_slew.png"))
+        torque_replay(args.lgi, workdir, os.path.join(img, "torque_replay.png"))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
