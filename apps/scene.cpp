@@ -185,12 +185,21 @@ Scene parse_scene(const json& document, const std::string& file) {
     node->fail("method " + method + " has no embedded error estimate: adaptive steps (rtol, atol) need one of " +
                pairs);
   }
+  // Why a problem has nothing to project onto (said first: a forced LGVI is not symplectic either).
+  const auto no_projection = [&] {
+    return "problem " + type +
+           (scene.problem->reads_omega() ? "'s torque reads the angular velocity (damping, control): its energy is not "
+                                           "conserved, nothing to project onto"
+                                         : " has a time-dependent torque: no energy to project onto");
+  };
   if (const auto node = integrator.find("projection");
-      node && takes_options && !takes(scene.method->traits, "projection"))
+      node && takes_options && !takes(scene.method->traits, "projection")) {
+    if (!scene.problem->projectable()) node->fail(no_projection());
     node->fail("method " + method +
                (scene.method->traits.symplectic
                     ? " is symplectic (its energy error stays bounded): projection is for non-symplectic methods"
                     : " does not take projection"));
+  }
   integrator.allow_only(keys, "method " + method);
   scene.dt = integrator.at("dt").positive();
   for (const std::string_view key : scene.method->traits.options) {
@@ -204,12 +213,7 @@ Scene parse_scene(const json& document, const std::string& file) {
   }
   if ((scene.options.rtol > 0) != (scene.options.atol > 0))
     integrator.fail("an adaptive run needs both \"rtol\" and \"atol\" (fixed steps: neither)");
-  if (scene.options.projection && !scene.problem->projectable())
-    integrator.at("projection").fail("problem " + type +
-                                     (scene.problem->reads_omega()
-                                          ? "'s torque reads the angular velocity (damping, control): its energy is "
-                                            "not conserved, nothing to project onto"
-                                          : " has a time-dependent torque: no energy to project onto"));
+  if (scene.options.projection && !scene.problem->projectable()) integrator.at("projection").fail(no_projection());
 
   // t_end and the number of steps it implies
   const Node t_end = root.at("t_end");

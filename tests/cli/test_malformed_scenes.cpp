@@ -383,6 +383,14 @@ std::vector<Case> cases() {
       {"projection_on_rigid_body", edit(rigid_body, "\"dt\": 0.01", "\"dt\": 0.01, \"projection\": true"),
        "lgi: error: {file}: /integrator/projection: problem rigid_body's torque reads the angular velocity (damping, "
        "control): its energy is not conserved, nothing to project onto"},
+      {"projection_on_forced_lgvi",
+       edit(edit(rigid_body, "\"rkmk4\"", "\"lgvi\""), "\"dt\": 0.01", "\"dt\": 0.01, \"projection\": true"),
+       "lgi: error: {file}: /integrator/projection: problem rigid_body's torque reads the angular velocity (damping, "
+       "control): its energy is not conserved, nothing to project onto"},
+      {"projection_on_satellite_lgvi",
+       edit(edit(satellite, "\"rkmk4\"", "\"lgvi\""), "\"dt\": 0.01", "\"dt\": 0.01, \"projection\": true"),
+       "lgi: error: {file}: /integrator/projection: problem satellite has a time-dependent torque: no energy to "
+       "project onto"},
       {"splitting_on_rigid_body", edit(rigid_body, "\"rkmk4\"", "\"split_dmv\""),
        "lgi: error: {file}: /integrator/method: method \"split_dmv\" does not apply to problem rigid_body (its "
        "torque reads the angular velocity, and the splittings and their compositions need a torque of the attitude "
