@@ -403,11 +403,15 @@ std::optional<Node> Node::find(std::string_view key) const {
   if (!v_.is_object()) fail("expected an object, got " + describe(v_));
   const auto it = v_.find(std::string(key));
   if (it == v_.end()) return std::nullopt;
-  return Node(*it, ptr_ + "/" + pointer_token(key), file_, adjustments_);
+  return Node(*it, ptr_ + "/" + pointer_token(key), file_, adjustments_, directory_);
 }
 
 Node Node::at(std::size_t index) const {
-  return Node(v_.at(index), ptr_ + "/" + std::to_string(index), file_, adjustments_);
+  return Node(v_.at(index), ptr_ + "/" + std::to_string(index), file_, adjustments_, directory_);
+}
+
+std::string Node::directory() const {
+  return directory_ ? *directory_ : std::filesystem::path(file_).parent_path().string();
 }
 
 std::size_t Node::size() const {

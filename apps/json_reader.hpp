@@ -52,16 +52,18 @@ struct InputAdjustment {
 // A JSON value with its location, and typed accessors that fail with the location in the message.
 class Node {
  public:
-  // `adjustments`: where readers record what they changed (adjusted()); null: not recorded. Nodes reached from
-  // this one record to the same place.
+  // `adjustments`: where readers record what they changed (adjusted()); null: not recorded. `directory`: where the
+  // file names the document holds are resolved (null: the directory of `file`; a sweep member's `file` is a label).
+  // Nodes reached from this one share both.
   Node(const json& value, std::string pointer, const std::string& file,
-       std::vector<InputAdjustment>* adjustments = nullptr)
-      : v_(value), ptr_(std::move(pointer)), file_(file), adjustments_(adjustments) {}
+       std::vector<InputAdjustment>* adjustments = nullptr, const std::string* directory = nullptr)
+      : v_(value), ptr_(std::move(pointer)), file_(file), adjustments_(adjustments), directory_(directory) {}
 
   const json& value() const { return v_; }
   const std::string& pointer() const { return ptr_; }  // "" for the document root
   std::string where() const { return ptr_.empty() ? std::string("/") : ptr_; }
-  const std::string& file() const { return file_; }  // the file the value was read from
+  const std::string& file() const { return file_; }  // the file the value was read from (for messages)
+  std::string directory() const;                      // where a relative file name in the document points from
   bool is_object() const { return v_.is_object(); }
   bool is_array() const { return v_.is_array(); }
 
@@ -95,6 +97,7 @@ class Node {
   std::string ptr_;
   const std::string& file_;
   std::vector<InputAdjustment>* adjustments_ = nullptr;
+  const std::string* directory_ = nullptr;
 };
 
 // A JSON pointer token with '~' and '/' escaped (RFC 6901), for messages: a key longer than 40 bytes is

@@ -90,10 +90,10 @@ EulerAngles read_euler_angles(const Node& node) {
 
 }  // namespace
 
-Scene parse_scene(const json& document, const std::string& file) {
+Scene parse_scene(const json& document, const std::string& file, const std::string& directory) {
   Scene scene;
   scene.file = file;
-  const Node root(document, "", file, &scene.adjustments);
+  const Node root(document, "", file, &scene.adjustments, directory.empty() ? nullptr : &directory);
   root.allow_only({"description", "problem", "initial", "integrator", "t_end", "output", "limits"});
   if (auto d = root.find("description")) (void)d->string();
 

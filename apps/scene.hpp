@@ -52,6 +52,7 @@ inline constexpr double max_scene_steps = 1e13;
 inline constexpr double max_interval_rows = 1e7;
 
 Scene load_scene(const std::string& file);
-Scene parse_scene(const json& document, const std::string& file);
+// `file` names the scene in messages; `directory` (empty: the file's) is where file names in it are resolved.
+Scene parse_scene(const json& document, const std::string& file, const std::string& directory = {});
 
 }  // namespace lgi::app

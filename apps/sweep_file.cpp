@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -171,7 +172,9 @@ std::string values_text(const Sweep& s, const std::vector<double>& v) {
 Scene member_scene(const Sweep& s, const std::vector<double>& v, const std::string& label) {
   json document = s.scene;
   for (std::size_t k = 0; k < v.size(); ++k) document[s.keys[k].ptr] = v[k];
-  return parse_scene(document, s.file + " (" + label + ")");
+  // The label names the member in messages; file names in the scene (a torque table) are the sweep file's.
+  const std::string directory = std::filesystem::path(s.file).parent_path().string();
+  return parse_scene(document, s.file + " (" + label + ")", directory.empty() ? std::string(".") : directory);
 }
 
 std::string member_label(const Sweep& s, std::int64_t m, const std::vector<double>& v) {
@@ -268,6 +271,9 @@ Sweep parse_sweep(const json& document, const std::string& file) {
   const std::vector<double> v0 = member_values(s, 0);
   s.scene0 = member_scene(s, v0, member_label(s, 0, v0));
   const Scene& scene0 = s.scene0;
+  // The files the scene reads (a torque table; the same for every member: a sweep varies numbers) are part of the
+  // sweep: shards computed with different tables are parts of different sweeps, and lgi merge refuses to join them.
+  for (const auto& input : scene0.problem->input_files()) s.hash = fnv1a(&input.second, sizeof input.second, s.hash);
   read_observe(sweep, scene0, s.observe);
   std::int64_t stride = 1;
   for (std::size_t k = s.keys.size(); k-- > 0;) {

@@ -62,7 +62,7 @@ Mat3<double> read_target(const Node& t) {
 std::shared_ptr<const TorqueTable> read_table(const Node& term) {
   const Node file = term.at("file");
   std::filesystem::path path = file.string();
-  if (path.is_relative()) path = std::filesystem::path(term.file()).parent_path() / path;
+  if (path.is_relative()) path = std::filesystem::path(term.directory()) / path;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     file.fail("cannot read the torque table " + path.string() + (ec ? ": " + ec.message() : ": not a regular file"));

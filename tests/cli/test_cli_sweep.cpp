@@ -584,6 +584,33 @@ std::string resign(const std::string& body) {
   return body + "# lgi sweep part end: fnv1a64 " + lgi::app::hex64(lgi::app::fnv1a(body)) + "\n";
 }
 
+// A sweep of a body under a replayed torque table: the table's path is the sweep file's (not the member's label), and
+// the table's bytes are part of the sweep — shards run with different tables do not merge (one line, exit 1); the
+// same table's shards merge to the serial run's bytes.
+TEST_F(CliSweep, TorqueTablesBelongToTheSweep) {
+  const std::string table = "t,M1,M2,M3\n0,0.1,0,0\n0.05,0.2,0.1,0\n0.1,0.1,0,0.3\n";
+  write("torque.csv", table);
+  write("table.json", R"({"problem": {"type": "rigid_body", "inertia": [1, 2, 3],
+      "torques": [{"type": "table", "file": "torque.csv", "frame": "body", "interpolation": "cubic"}]},
+    "initial": {"omega": [0.1, 0.2, 1]}, "integrator": {"method": "rkmk4", "dt": 0.01}, "t_end": 0.1,
+    "sweep": {"grid": {"/initial/omega/2": [1, 2, 3, 4]}, "record": ["status", "final"]}})");
+  const CommandResult serial = sweep("table.json", "serial.csv");
+  ASSERT_EQ(serial.status, 0) << serial.err;
+  ASSERT_EQ(sweep("table.json", "p0.csv", "--shard 0/2").status, 0);
+  write("torque.csv", "t,M1,M2,M3\n0,0.1,0,0\n0.05,0.25,0.1,0\n0.1,0.1,0,0.3\n");
+  ASSERT_EQ(sweep("table.json", "q1.csv", "--shard 1/2").status, 0);
+  const auto p = [&](const std::string& name) { return (dir_ / name).string() + " "; };
+  CommandResult r = lgi("merge " + p("p0.csv") + p("q1.csv") + "-o " + (dir_ / "merged.csv").string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("q1.csv:1: a shard of another sweep"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "merged.csv"));
+  write("torque.csv", table);
+  ASSERT_EQ(sweep("table.json", "p1.csv", "--shard 1/2").status, 0);
+  r = lgi("merge " + p("p0.csv") + p("p1.csv") + "-o " + (dir_ / "merged.csv").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(read("merged.csv"), read("serial.csv"));
+}
+
 TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {
   write("a.json", heavy_top_sweep(R"({"grid": {"/problem/b": [0.5, 1, 1.5, 2, 2.5]}, "record": ["status"]})"));
   write("b.json", heavy_top_sweep(R"({"grid": {"/problem/b": [0.5, 1, 1.5, 2, 3]}, "record": ["status"]})"));
