@@ -609,6 +609,11 @@ TEST_F(CliSweep, TorqueTablesBelongToTheSweep) {
   r = lgi("merge " + p("p0.csv") + p("p1.csv") + "-o " + (dir_ / "merged.csv").string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(read("merged.csv"), read("serial.csv"));
+  // -o naming the table: refused, the table untouched.
+  r = sweep("table.json", "torque.csv");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("is the scene's torque table"), std::string::npos) << r.err;
+  EXPECT_EQ(read("torque.csv"), table);
 }
 
 TEST_F(CliSweep, MergeRefusesIncompleteOrMixedParts) {

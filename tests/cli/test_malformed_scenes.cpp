@@ -636,6 +636,14 @@ TEST_F(MalformedScenes, TorqueTablesGiveTheirFileAndLine) {
       golden.replace(at, 5, csv.string());
     expect_rejected(c.name, scene_with(c.name + "_table.csv", c.extra), golden);
   }
+  // -o naming the table: refused, the table untouched (lgi does not replace its input).
+  const fs::path victim = write("victim.csv", good);
+  const Result same = run(write("victim.json", scene_with("victim.csv")), victim);
+  EXPECT_EQ(same.status, 1);
+  EXPECT_EQ(same.err, "lgi: error: -o " + victim.string() + " is the scene's torque table " + victim.string() +
+                          ": lgi does not replace its input\n");
+  EXPECT_EQ(lgi::test::slurp(victim), good);
+
   const fs::path missing = dir_ / "absent.csv";
   expect_rejected("table_file_missing", scene_with("absent.csv"),
                   "lgi: error: {file}: /problem/torques/0/file: cannot read the torque table " + missing.string() +
