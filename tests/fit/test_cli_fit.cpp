@@ -457,6 +457,18 @@ TEST_F(CliFit, RecoversDampingAndDisturbanceOfARigidBody) {
   EXPECT_LT(error, 1e-10);
   EXPECT_TRUE(res.at("usable").get<bool>());
 
+  // -o naming a torque table of the scene: refused, the table untouched.
+  const std::string table = "t,M1,M2,M3\n0,0,0,0\n20,0,0,0\n";
+  write("zero.csv", table);
+  std::string with_table = scene("0.05", "[0, 0, 0]", "lgvi") + fit;
+  with_table.replace(with_table.find("\"torques\": ["), 12,
+                     R"("torques": [{"type": "table", "file": "zero.csv", "frame": "body"}, )");
+  write("table.json", with_table);
+  const Result onto = lgi("fit " + (dir_ / "table.json").string() + " -o " + (dir_ / "zero.csv").string());
+  EXPECT_EQ(onto.status, 1);
+  EXPECT_NE(onto.err.find("is the scene's torque table"), std::string::npos) << onto.err;
+  EXPECT_EQ(slurp(dir_ / "zero.csv"), table);
+
   write("rkmk4.json", scene("0.05", "[0, 0, 0]", "rkmk4") + fit);
   Result bad = lgi("fit " + (dir_ / "rkmk4.json").string());
   EXPECT_EQ(bad.status, 1);
