@@ -265,10 +265,8 @@ int fit_command(const FitCommandOptions& options) {
   if (!options.output.empty()) {
     if (!is_streamed_path(options.output) && same_file(options.output, file))
       return fail(exit_bad_input, "-o " + options.output + " is the fit file itself: lgi does not replace its input");
-    for (const auto& in : spec.scene.problem->input_files())  // a torque table is input too
-      if (!is_streamed_path(options.output) && same_file(options.output, in.first))
-        return fail(exit_bad_input, "-o " + options.output + " is the scene's torque table " + in.first +
-                                        ": lgi does not replace its input");
+    if (const std::string why = output_replaces_input(spec.scene, options.output); !why.empty())
+      return fail(exit_bad_input, why);
     try {
       OutputFile probe(options.output);
     } catch (const OutputError& e) {

@@ -256,10 +256,8 @@ int run_command(const RunCommandOptions& cmd) {
   if (!output.empty() && !lgi::app::is_streamed_path(output) && lgi::app::same_file(output, input))
     return fail(exit_bad_input, "-o " + output + " is the " + (resuming ? "checkpoint" : "scene file") +
                                     " itself: lgi does not replace its input");
-  for (const auto& in : scene.problem->input_files())  // a torque table is input too
-    if (!output.empty() && !lgi::app::is_streamed_path(output) && lgi::app::same_file(output, in.first))
-      return fail(exit_bad_input, "-o " + output + " is the scene's torque table " + in.first +
-                                      ": lgi does not replace its input");
+  if (const std::string why = lgi::app::output_replaces_input(scene, output); !why.empty())
+    return fail(exit_bad_input, why);
   if (resuming && cmd.checkpoint_every.empty()) {
     every_steps = resume.every_steps;
     every_seconds = resume.every_seconds;

@@ -1,5 +1,7 @@
 #include "scene.hpp"
 
+#include "output_file.hpp"
+
 #include <lgi/core/attitude.hpp>
 #include <lgi/core/so3.hpp>
 #include <lgi/integrators/adaptive.hpp>
@@ -281,5 +283,13 @@ Scene parse_scene(const json& document, const std::string& file, const std::stri
 }
 
 Scene load_scene(const std::string& file) { return parse_scene(read_json_file(file), file); }
+
+std::string output_replaces_input(const Scene& scene, const std::string& output) {
+  if (output.empty() || is_streamed_path(output)) return {};
+  for (const auto& in : scene.problem->input_files())
+    if (same_file(output, in.first))
+      return "-o " + output + " is the scene's torque table " + in.first + ": lgi does not replace its input";
+  return {};
+}
 
 }  // namespace lgi::app

@@ -52,6 +52,9 @@ inline constexpr double max_scene_steps = 1e13;
 inline constexpr double max_interval_rows = 1e7;
 
 Scene load_scene(const std::string& file);
+// Why `output` may not be written: it is a file the scene reads (a torque table), which lgi does not replace; "" if
+// it is not (or is streamed).
+std::string output_replaces_input(const Scene& scene, const std::string& output);
 // `file` names the scene in messages; `directory` (empty: the file's) is where file names in it are resolved.
 Scene parse_scene(const json& document, const std::string& file, const std::string& directory = {});
 

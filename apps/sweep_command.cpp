@@ -277,10 +277,8 @@ int sweep_command(const SweepCommandOptions& options) {
 
   if (!is_streamed_path(options.output) && same_file(options.output, options.sweep_file))
     return fail(exit_bad_input, "-o " + options.output + " is the sweep file itself: lgi does not replace its input");
-  for (const auto& in : s.scene0.problem->input_files())  // a torque table is input too
-    if (!is_streamed_path(options.output) && same_file(options.output, in.first))
-      return fail(exit_bad_input, "-o " + options.output + " is the scene's torque table " + in.first +
-                                      ": lgi does not replace its input");
+  if (const std::string why = output_replaces_input(s.scene0, options.output); !why.empty())
+    return fail(exit_bad_input, why);
   if (s.records(Record::crossings) && is_streamed_path(options.output))
     return fail(exit_bad_input, "-o " + options.output + ": the sweep records crossings, which go to a file beside the "
                                 "output (" + crossings_path("OUT.csv") + "): -o must name a file");

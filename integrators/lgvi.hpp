@@ -54,8 +54,8 @@
 /// update for a torque linear in Ω with an exact D. A Jet scalar takes one more update after convergence (two with
 /// forward differences), so that its derivative parts converge as well.
 /// Order 2 and symmetric (the explicit first and implicit last half kick are each other's adjoints). Not
-/// symplectic: the forcing does work. R_{k+1} stays a product of rotations; with M_nc = 0 the step is the
-/// conservative one, bit for bit.
+/// symplectic: the forcing does work. R_{k+1} stays a product of rotations. A problem whose torque does not read Ω
+/// takes the conservative step above (the same code).
 #pragma once
 
 #include "../core/state_io.hpp"

@@ -24,6 +24,7 @@
 #include "../core/scalar.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -49,7 +50,7 @@ class TorqueTable {
   /// is a hash of the bytes they were read from (checkpoints compare it), 0 if none.
   TorqueTable(std::vector<double> t, std::vector<Vec3<double>> M, Interpolation interpolation, std::string source = {},
               std::uint64_t digest = 0)
-      : t_(std::move(t)), M_(std::move(M)), interpolation_(interpolation), source_(std::move(source)), digest_(digest) {
+      : t_(std::move(t)), M_(std::move(M)), source_(std::move(source)), digest_(digest) {
     if (t_.size() < 2 || t_.size() != M_.size())
       throw std::invalid_argument("lgi::TorqueTable: needs at least 2 samples, as many times as torques");
     for (std::size_t i = 0; i < t_.size(); ++i) {
@@ -58,8 +59,17 @@ class TorqueTable {
       if (i > 0 && !(t_[i] > t_[i - 1]))
         throw std::invalid_argument("lgi::TorqueTable: times must increase strictly (sample " + std::to_string(i) + ")");
     }
-    m_.assign(t_.size(), Vec3<double>::Zero());
-    if (interpolation_ == Interpolation::cubic && t_.size() > 2) solve_spline();
+    // Each interval's polynomial M_i + u (c1 + u (c2 + u c3)), once: linear c1 = slope, c2 = c3 = 0.
+    std::vector<Vec3<double>> m(t_.size(), Vec3<double>::Zero());
+    if (interpolation == Interpolation::cubic && t_.size() > 2) m = spline_second_derivatives();
+    for (std::size_t i = 0; i + 1 < t_.size(); ++i) {
+      const double h = t_[i + 1] - t_[i];
+      const Vec3<double> slope = (M_[i + 1] - M_[i]) / h;
+      if (interpolation == Interpolation::linear)
+        c_.push_back({slope, Vec3<double>::Zero(), Vec3<double>::Zero()});
+      else
+        c_.push_back({slope - h * (2 * m[i] + m[i + 1]) / 6, m[i] / 2, (m[i + 1] - m[i]) / (6 * h)});
+    }
   }
 
   /// M(t), body or laboratory frame as the table's user says (this header's formulas). No allocation; the interval
@@ -70,25 +80,21 @@ class TorqueTable {
     const std::size_t n = t_.size();
     std::size_t i = static_cast<std::size_t>(std::upper_bound(t_.begin(), t_.end(), tv) - t_.begin());
     i = std::clamp<std::size_t>(i == 0 ? 0 : i - 1, 0, n - 2);
-    const double h = t_[i + 1] - t_[i];
     const T u = t - T(t_[i]);
-    const Vec3<double> slope = (M_[i + 1] - M_[i]) / h;
-    if (interpolation_ == Interpolation::linear) return M_[i].template cast<T>() + u * slope.template cast<T>();
-    const Vec3<double> c1 = slope - h * (2 * m_[i] + m_[i + 1]) / 6, c2 = m_[i] / 2, c3 = (m_[i + 1] - m_[i]) / (6 * h);
-    return M_[i].template cast<T>() + u * (c1.template cast<T>() + u * (c2.template cast<T>() + u * c3.template cast<T>()));
+    const std::array<Vec3<double>, 3>& c = c_[i];
+    return M_[i].template cast<T>() +
+           u * (c[0].template cast<T>() + u * (c[1].template cast<T>() + u * c[2].template cast<T>()));
   }
 
-  double t_first() const { return t_.front(); }     ///< t_0
-  double t_last() const { return t_.back(); }       ///< t_{n−1}
-  std::size_t size() const { return t_.size(); }    ///< n
-  Interpolation interpolation() const { return interpolation_; }  ///< linear or cubic
+  double t_last() const { return t_.back(); }             ///< t_{n−1}
   const std::string& source() const { return source_; }  ///< where the samples came from (messages)
   std::uint64_t digest() const { return digest_; }        ///< hash of the bytes they were read from, 0 if none
 
  private:
-  // The natural spline's m_1 … m_{n−2} (m_0 = m_{n−1} = 0), Thomas algorithm on the diagonally dominant system.
-  void solve_spline() {
+  // The natural spline's m_0 … m_{n−1} (m_0 = m_{n−1} = 0), Thomas algorithm on the diagonally dominant system.
+  std::vector<Vec3<double>> spline_second_derivatives() const {
     const std::size_t n = t_.size();
+    std::vector<Vec3<double>> m(n, Vec3<double>::Zero());
     std::vector<double> diag(n, 1.0), upper(n, 0.0);
     std::vector<Vec3<double>> rhs(n, Vec3<double>::Zero());
     for (std::size_t i = 1; i + 1 < n; ++i) {
@@ -103,13 +109,13 @@ class TorqueTable {
         rhs[i] -= w * rhs[i - 1];
       }
     }
-    for (std::size_t i = n - 2; i >= 1; --i) m_[i] = (rhs[i] - upper[i] * m_[i + 1]) / diag[i];
+    for (std::size_t i = n - 2; i >= 1; --i) m[i] = (rhs[i] - upper[i] * m[i + 1]) / diag[i];
+    return m;
   }
 
   std::vector<double> t_;
   std::vector<Vec3<double>> M_;
-  std::vector<Vec3<double>> m_;  ///< the spline's second derivatives (zero for a linear table)
-  Interpolation interpolation_;
+  std::vector<std::array<Vec3<double>, 3>> c_;  ///< interval i's c1, c2, c3 (the constructor)
   std::string source_;
   std::uint64_t digest_ = 0;
 };

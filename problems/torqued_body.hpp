@@ -66,10 +66,9 @@ struct TorquedBody {
   Vec3<T> target_omega = Vec3<T>::Zero(); ///< Ω_d, the target's body angular velocity (has_control)
   T k_R = T(0);                           ///< the controller's proportional gain (has_control)
   T k_Omega = T(0);                       ///< the controller's derivative gain (has_control)
-  std::shared_ptr<const TorqueTable> table;  ///< M_tab(t) (has_table)
+  std::shared_ptr<const TorqueTable> table;  ///< M_tab(t); null: no table term
   bool table_in_lab = false;              ///< the table's torques are laboratory-frame (else body-frame)
   bool has_constant = false;              ///< M_body, M_lab present
-  bool has_table = false;                 ///< M_tab present (table non-null)
   bool has_damping = false;               ///< −CΩ present
   bool has_control = false;               ///< the PD law present
 
@@ -85,7 +84,7 @@ struct TorquedBody {
   [[gnu::noinline]] Vec3<T> torque(const T& t, const Mat3<T>& R, const Vec3<T>& Omega) const {
     Vec3<T> M = b * Vec3<T>(R.transpose() * k).cross(z0);
     if (has_constant) M += body_torque + R.transpose() * lab_torque;
-    if (has_table) {
+    if (table) {
       const Vec3<T> Mt = (*table)(t);
       M += table_in_lab ? Vec3<T>(R.transpose() * Mt) : Mt;
     }
@@ -123,11 +122,11 @@ struct TorquedBody {
   }
   /// The last time the torque is defined at: the table's last sample, +∞ without a table (the scene loader refuses
   /// a t_end beyond it).
-  double time_limit() const { return has_table ? table->t_last() : std::numeric_limits<double>::infinity(); }
+  double time_limit() const { return table ? table->t_last() : std::numeric_limits<double>::infinity(); }
   /// The files the problem's data were read from, with a hash of their bytes (the table's; checkpoints record them
   /// so that a resume refuses a file that changed).
   std::vector<std::pair<std::string, std::uint64_t>> input_files() const {
-    if (has_table && !table->source().empty()) return {{table->source(), table->digest()}};
+    if (table && !table->source().empty()) return {{table->source(), table->digest()}};
     return {};
   }
 
@@ -154,7 +153,6 @@ struct TorquedBody {
     c.table = table;
     c.table_in_lab = table_in_lab;
     c.has_constant = has_constant;
-    c.has_table = has_table;
     c.has_damping = has_damping;
     c.has_control = has_control;
     return c;

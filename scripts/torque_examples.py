@@ -81,23 +81,27 @@ def target_of(scene):
     raise ValueError("no attitude_control term")
 
 
+def two_panels(png, panels):
+    """A figure of two plots side by side: each panel (draw(ax), xlabel, ylabel, title)."""
+    fig, ax = plt.subplots(1, 2, figsize=(10, 3.6))
+    for a, (draw, xlabel, ylabel, title) in zip(ax, panels):
+        draw(a)
+        a.set_xlabel(xlabel)
+        a.set_ylabel(ylabel)
+        a.set_title(title)
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+
+
 def damped_top(lgi, workdir, png):
     scene, c = run(lgi, os.path.join(ROOT, "scenes", "damped_top.json"), 100, workdir)
     t, E = c["t"], c["energy"]
     k = np.array(scene["problem"]["gravity"]["k"], dtype=float)
     tilt = np.degrees([math.acos(max(-1.0, min(1.0, float(R[:, 2] @ k)))) for R in c["R"]])
     rises = np.diff(E)
-    fig, ax = plt.subplots(1, 2, figsize=(10, 3.6))
-    ax[0].plot(t, E)
-    ax[0].set_xlabel("t")
-    ax[0].set_ylabel("energy")
-    ax[0].set_title("damped heavy top: energy (falls by the damping's work)")
-    ax[1].plot(t, tilt)
-    ax[1].set_xlabel("t")
-    ax[1].set_ylabel("angle of the symmetry axis from k (deg)")
-    ax[1].set_title("the top loses its spin and hangs down")
-    fig.tight_layout()
-    fig.savefig(png, dpi=110)
+    two_panels(png, [(lambda a: a.plot(t, E), "t", "energy", "damped heavy top: energy (falls by the damping's work)"),
+                     (lambda a: a.plot(t, tilt), "t", "angle of the symmetry axis from k (deg)",
+                      "the top loses its spin and hangs down")])
     print("damped_top: E from %.6f to %.6f over t = %g; largest change between rows %.3e; axis from k: %.2f deg at "
           "t = 0, %.2f deg at the end" % (E[0], E[-1], t[-1], rises.max(), tilt[0], tilt[-1]))
 
@@ -108,17 +112,9 @@ def attitude_slew(lgi, workdir, png):
     t = c["t"]
     err = np.array([angle(Rd.T @ R) for R in c["R"]])
     rate = np.linalg.norm(c["omega"], axis=1)
-    fig, ax = plt.subplots(1, 2, figsize=(10, 3.6))
-    ax[0].semilogy(t, np.degrees(err), marker=".")
-    ax[0].set_xlabel("t (s)")
-    ax[0].set_ylabel("angle to the target (deg)")
-    ax[0].set_title("90 deg PD slew on SO(3): attitude error (adaptive steps)")
-    ax[1].plot(t, rate, marker=".")
-    ax[1].set_xlabel("t (s)")
-    ax[1].set_ylabel("|Omega| (rad/s)")
-    ax[1].set_title("body rate")
-    fig.tight_layout()
-    fig.savefig(png, dpi=110)
+    two_panels(png, [(lambda a: a.semilogy(t, np.degrees(err), marker="."), "t (s)", "angle to the target (deg)",
+                      "90 deg PD slew on SO(3): attitude error (adaptive steps)"),
+                     (lambda a: a.plot(t, rate, marker="."), "t (s)", "|Omega| (rad/s)", "body rate")])
     print("attitude_slew: %d accepted steps; angle to the target %.1f deg at t = 0, %.3e rad at t = %g; peak |Omega| "
           "%.4f rad/s" % (len(t) - 1, math.degrees(err[0]), err[-1], t[-1], rate.max()))
 
@@ -131,21 +127,18 @@ def torque_replay(lgi, workdir, png):
         table = np.array([[float(x) for x in r] for r in list(csv.reader(f))[1:]])
     k_R = next(term["k_R"] for term in scene["problem"]["torques"] if term["type"] == "attitude_control")
     predicted = np.max(np.linalg.norm(table[:, 1:], axis=1)) / k_R
-    fig, ax = plt.subplots(1, 2, figsize=(10, 3.6))
-    for i, name in enumerate(("M1", "M2", "M3")):
-        ax[0].plot(table[:, 0], table[:, i + 1], ".", markersize=3, label=name + " (table rows)")
-    ax[0].set_xlabel("t (s)")
-    ax[0].set_ylabel("laboratory-frame torque (N m)")
-    ax[0].set_title("replayed disturbance (torque_replay.csv)")
-    ax[0].legend(fontsize=8)
-    ax[1].plot(t, np.degrees(err))
-    ax[1].axhline(math.degrees(predicted), color="gray", linestyle="--", label="max |M| / k_R")
-    ax[1].set_xlabel("t (s)")
-    ax[1].set_ylabel("pointing error (deg)")
-    ax[1].set_title("PD hold against the disturbance")
-    ax[1].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(png, dpi=110)
+    def table_panel(a):
+        for i, name in enumerate(("M1", "M2", "M3")):
+            a.plot(table[:, 0], table[:, i + 1], ".", markersize=3, label=name + " (table rows)")
+        a.legend(fontsize=8)
+
+    def error_panel(a):
+        a.plot(t, np.degrees(err))
+        a.axhline(math.degrees(predicted), color="gray", linestyle="--", label="max |M| / k_R")
+        a.legend(fontsize=8)
+
+    two_panels(png, [(table_panel, "t (s)", "laboratory-frame torque (N m)", "replayed disturbance (torque_replay.csv)"),
+                     (error_panel, "t (s)", "pointing error (deg)", "PD hold against the disturbance")])
     print("torque_replay: pointing error at most %.3e rad (max |M|/k_R = %.3e rad) over t = %g"
           % (err.max(), predicted, t[-1]))
 

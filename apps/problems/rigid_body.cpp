@@ -132,14 +132,13 @@ void read_term(const Node& term, TorquedBody<double>& body, bool& has_controller
     body.has_constant = true;
   } else if (type == "table") {
     term.allow_only({"type", "file", "frame", "interpolation"}, "a torque table");
-    if (body.has_table) term.fail("one table term per body");
+    if (body.table) term.fail("one table term per body");
     const std::string frame = term.at("frame").string();
     if (frame != "body" && frame != "lab")
       term.at("frame").fail("unknown frame " + quoted_input(frame) + did_you_mean(frame, {"body", "lab"}) +
                             " (known: body, lab)");
     body.table = read_table(term);
     body.table_in_lab = frame == "lab";
-    body.has_table = true;
   } else if (type == "damping") {
     term.allow_only({"type", "coefficient", "matrix"}, "damping");
     const auto c = term.find("coefficient"), C = term.find("matrix");

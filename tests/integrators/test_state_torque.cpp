@@ -224,7 +224,6 @@ TEST(StateTorqueOrder, TabulatedTorqueAtTheMethodsOrders) {
     }
     b.table = std::make_shared<const TorqueTable>(t, M, interpolation);
     b.table_in_lab = true;
-    b.has_table = true;
     return b;
   };
   const State<double> x0 = test::skew_initial_state();
