@@ -105,22 +105,26 @@ concept StepFunction = requires(S& s, typename S::Internal& y, const typename S:
   { s.step(y, t, t) } -> std::same_as<StepStatus>;
 };
 
-/// A one-step method on SO(3) × R³: a StepFunction with its Problem, its MethodTraits and the conversions
-/// to_internal / to_state (the contract of this header: step leaves y untouched unless ok, allocates nothing, gives
-/// the same bits for the same (y, t, h)). One thread at a time per stepper object (step updates its counters);
-/// copies are independent.
+/// A one-step method whose state maps to and from a rigid body's (R, Ω): a StepFunction with its Problem, its
+/// MethodTraits and the conversions to_internal / to_state. Its problem may carry more state than (R, Ω) (the
+/// gyrostat's rotors, integrators/gyrostat.hpp: to_internal completes it from the problem).
 template <class S>
-concept Stepper = requires(S& s, const State<typename S::Scalar>& x, typename S::Internal& y,
-                           const typename S::Scalar& t) {
+concept StateStepper = requires(S& s, const State<typename S::Scalar>& x, typename S::Internal& y,
+                                const typename S::Scalar& t) {
   typename S::Problem;
   typename S::Scalar;
   typename S::Internal;
-  requires RigidBodyProblem<typename S::Problem>;
   { S::traits } -> std::convertible_to<MethodTraits>;
   { s.to_internal(x, t) } -> std::same_as<typename S::Internal>;
   { s.to_state(y) } -> std::same_as<State<typename S::Scalar>>;
   { s.step(y, t, t) } -> std::same_as<StepStatus>;
 };
+
+/// A one-step method on SO(3) × R³: a StateStepper on a RigidBodyProblem (the contract of this header: step leaves y
+/// untouched unless ok, allocates nothing, gives the same bits for the same (y, t, h)). One thread at a time per
+/// stepper object (step updates its counters); copies are independent.
+template <class S>
+concept Stepper = StateStepper<S> && RigidBodyProblem<typename S::Problem>;
 
 /// Writes the new attitude and velocity (or momentum) into y when all of it is finite; the steppers'
 /// common last line.

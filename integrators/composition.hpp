@@ -198,7 +198,7 @@ constexpr JoinedName<N> join(std::string_view a, std::string_view sep, std::stri
 /// The composition of `Base<P>` (a symmetric order-2 stepper) with the coefficient set C. A stepper where `Base<P>`
 /// is one (lagrange_split: axisymmetric problems only), so the registry offers it exactly there; the class
 /// itself exists for any problem, as `Base<P>` does, so that its traits can be read.
-template <const auto& C, template <class> class Base, RigidBodyProblem P>
+template <const auto& C, template <class> class Base, class P>
 class Composition {
   using B = Base<P>;
   static_assert(B::traits.order == 2 && B::traits.symmetric,
@@ -237,18 +237,18 @@ class Composition {
 
   /// The base method built from (problem, options) (its exceptions propagate).
   explicit Composition(const P& problem, const StepperOptions& options = {})
-    requires Stepper<B>
+    requires StateStepper<B>
       : base_(problem, options) {}
 
   /// The base method's coordinates of x.
   Internal to_internal(const State<Scalar>& x, const Scalar& t) const
-    requires Stepper<B>
+    requires StateStepper<B>
   {
     return base_.to_internal(x, t);
   }
   /// The base method's state of y.
   State<Scalar> to_state(const Internal& y) const
-    requires Stepper<B>
+    requires StateStepper<B>
   {
     return base_.to_state(y);
   }
@@ -257,7 +257,7 @@ class Composition {
   /// (core/scalar.hpp), a call per substep that slows the compositions (bench_steps; docs/performance.md, "Run-time
   /// dispatch for AVX2"); its step_inline() is the same step, compiled here.
   StepStatus base_step(Internal& z, const Scalar& tau, const Scalar& hi)
-    requires Stepper<B>
+    requires StateStepper<B>
   {
     if constexpr (requires { base_.step_inline(z, tau, hi); })
       return base_.step_inline(z, tau, hi);
@@ -268,7 +268,7 @@ class Composition {
   /// s base steps on a copy of y; y is written only when all succeeded.
   /// The first failed base step's status is returned; cost: N base steps (γ_i h each, some of them negative).
   LGI_FLATTEN StepStatus step(Internal& y, const Scalar& t, const Scalar& h)
-    requires Stepper<B>
+    requires StateStepper<B>
   {
     Internal z = y;
     Scalar tau = t;

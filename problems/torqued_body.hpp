@@ -46,6 +46,13 @@
 
 namespace lgi {
 
+/// e_R = ½ vee(R_dᵀR − RᵀR_d), the attitude error of R from the target R_d (Lee, Leok & McClamroch, CDC 2010, §III).
+template <class T>
+Vec3<T> attitude_error(const Mat3<T>& target, const Mat3<T>& R) {
+  const Mat3<T> E = target.transpose() * R;
+  return Vec3<T>(E(2, 1) - E(1, 2), E(0, 2) - E(2, 0), E(1, 0) - E(0, 1)) / T(2);
+}
+
 /// A rigid body under gravity, constant torques, damping and PD control (this header's equations). The data are not
 /// checked here (the scene loader checks them): k, z0 unit, b ≥ 0, C symmetric positive semi-definite, R_d ∈ SO(3),
 /// k_R, k_Ω ≥ 0.
@@ -100,10 +107,7 @@ struct TorquedBody {
     return D;
   }
   /// e_R = ½ vee(R_dᵀR − RᵀR_d).
-  Vec3<T> attitude_error(const Mat3<T>& R) const {
-    const Mat3<T> E = target.transpose() * R;
-    return Vec3<T>(E(2, 1) - E(1, 2), E(0, 2) - E(2, 0), E(1, 0) - E(0, 1)) / T(2);
-  }
+  Vec3<T> attitude_error(const Mat3<T>& R) const { return lgi::attitude_error(target, R); }
   /// e_Ω = Ω − RᵀR_d Ω_d.
   Vec3<T> rate_error(const Mat3<T>& R, const Vec3<T>& Omega) const {
     return Omega - R.transpose() * (target * target_omega);
