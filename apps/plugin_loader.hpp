@@ -19,7 +19,7 @@
 #else
 #define LGI_BUILD_FMA "no-fma"
 #endif
-#define LGI_PLUGIN_INTERFACE 3
+#define LGI_PLUGIN_INTERFACE 4
 #ifndef LGI_PLUGIN_BUILD_ID
 #define LGI_PLUGIN_BUILD_ID                                                                                      \
   "lgi " LGI_VERSION_STRING "; plugin interface " LGI_STRINGIZE(LGI_PLUGIN_INTERFACE) "; " __VERSION__          \

@@ -39,6 +39,9 @@ class ProblemModelOf final : public ProblemModel {
   }
   std::size_t integral_count() const override { return runner_detail::integral_count<P>(); }
   bool on_group() const override { return RigidBodyProblem<P>; }
+  std::string coordinates() const override {
+    return RigidBodyProblem<P> ? std::string() : std::string(", Runge-Kutta on the Euler angles");
+  }
   bool torque_free() const override {
     if constexpr (RigidBodyProblem<P>) return !P::has_torque;
     else return false;

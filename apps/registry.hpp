@@ -109,6 +109,12 @@ class ProblemModel {
   virtual std::vector<std::string_view> invariant_names() const = 0;
   virtual std::size_t integral_count() const = 0;
   virtual bool on_group() const = 0;     // its state is on SO(3) × R³ (integrator options apply)
+  // What the summary says of the coordinates a problem not on SO(3) × R³ is stepped in (", Runge-Kutta on the Euler
+  // angles"); empty for one on SO(3) × R³.
+  virtual std::string coordinates() const { return {}; }
+  // Why a method of the registry does not apply, where the problem says more than its torque's kind (" (...)"; empty:
+  // the scene loader's reason).
+  virtual std::string methods_note() const { return {}; }
   virtual bool torque_free() const = 0;  // no torque: methods of higher order on free bodies show that order
   virtual bool reads_omega() const = 0;  // its torque reads Ω (damping, control): the energy changes by their work
   virtual bool projectable() const = 0;  // "projection": true is accepted (integrators/projection.hpp)

@@ -205,7 +205,7 @@ std::vector<double> state_columns(const Scene& scene, double t, const State<doub
 std::string brief_report(const Scene& scene, const RunReport& r) {
   const MethodTraits& m = scene.method->traits;
   const std::string problem(scene.problem->type_name());
-  const bool euler_angles = !scene.problem->on_group();  // its own path: RK on the angles
+  const std::string coordinates = scene.problem->coordinates();  // a problem not on SO(3) × R³: its own path
   // A method whose order is higher without torque (preprocessed DMV) shows that order on a torque-free problem.
   const bool torque_free = scene.problem->torque_free();
   const int order = torque_free && m.free_body_order > 0 ? m.free_body_order : m.order;
@@ -216,7 +216,7 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
   const char* geometry = !m.symplectic ? "" : scene.problem->reads_omega() ? ", forced Lagrange-d'Alembert" : ", symplectic";
   std::snprintf(buf, sizeof buf, "%s: %s, %s (order %d%s%s), dt = %s\n", scene.file.c_str(), problem.c_str(),
                 std::string(m.name).c_str(), order, geometry,
-                euler_angles ? ", Runge-Kutta on the Euler angles" : m.exact_on_group ? ", on SO(3)" : "",
+                !coordinates.empty() ? coordinates.c_str() : m.exact_on_group ? ", on SO(3)" : "",
                 format_number(scene.dt).c_str());
   s += buf;
   // What the readers changed to make the input exact.

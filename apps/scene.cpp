@@ -160,7 +160,9 @@ Scene parse_scene(const json& document, const std::string& file, const std::stri
     std::string types;
     for (const ProblemInfo& p : problem_registry())
       if (method_applies(method, p.name)) types += (types.empty() ? "" : ", ") + std::string(p.name);
-    const std::string why = scene.problem->reads_omega()
+    const std::string note = scene.problem->methods_note();
+    const std::string why = !note.empty() ? note
+                            : scene.problem->reads_omega()
                                 ? " (its torque reads the angular velocity, and the splittings and their "
                                   "compositions need a torque of the attitude alone)"
                                 : "";

@@ -153,7 +153,9 @@ class GyrostatDynamics {
     y.R = R;
     for (int i = 0; i < g_.rotor_count; ++i)
       y.h(i) = g_.rotors[i].inertia * (g_.rotors[i].axis.dot(Omega) + g_.rotors[i].rate);
-    y.m = R * (g_.body_inertia() * Omega + A_ * y.h);
+    Vec3<T> H = g_.body.inertia * Omega;  // J Ω + Σ I_s,i ω_s,i a_i: = J_bΩ + A h without its cancellation
+    for (int i = 0; i < g_.rotor_count; ++i) H += g_.rotors[i].inertia * g_.rotors[i].rate * g_.rotors[i].axis;
+    y.m = R * H;
     return y;
   }
   /// True when a term of M or g reads (m, h) (damping, control, friction): the implicit kick needs its solve.

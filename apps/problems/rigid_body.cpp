@@ -1,6 +1,8 @@
 // lgi/apps/problems/rigid_body.cpp — the `rigid_body` problem type of scenes (problems/torqued_body.hpp): a body under
 // optional uniform gravity and a list of torque terms; its parser and its registration (every method that applies to
 // it is compiled here, problem_model.hpp). The format is documented in docs/scenes.md, "rigid_body".
+#include "torqued_body_reader.hpp"
+
 #include "../csv_reader.hpp"
 #include "../problem_model.hpp"
 
@@ -161,7 +163,9 @@ void read_term(const Node& term, TorquedBody<double>& body, bool& has_controller
   }
 }
 
-TorquedBody<double> parse(const Node& p) {
+}  // namespace
+
+TorquedBody<double> read_torqued_body(const Node& p) {
   TorquedBody<double> body;
   body.inertia = read_inertia(p.at("inertia"));
   if (auto g = p.find("gravity")) read_gravity(*g, body);
@@ -173,8 +177,8 @@ TorquedBody<double> parse(const Node& p) {
   return body;
 }
 
-}  // namespace
+Mat3<double> read_target_attitude(const Node& t) { return read_target(t); }
 
-LGI_DEFINE_PROBLEM(rigid_body, TorquedBody<double>, "rigid body under optional gravity and torque terms: constant or tabulated (body or lab frame), damping -C Omega, PD attitude control", ({"type", "inertia", "gravity", "torques"}), parse)
+LGI_DEFINE_PROBLEM(rigid_body, TorquedBody<double>, "rigid body under optional gravity and torque terms: constant or tabulated (body or lab frame), damping -C Omega, PD attitude control", ({"type", "inertia", "gravity", "torques"}), read_torqued_body)
 
 }  // namespace lgi::app

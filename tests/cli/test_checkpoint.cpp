@@ -520,6 +520,13 @@ TEST_F(Checkpoints, BudgetStopsChainOfResumesGivesTheSameBytes) {
        R"({"problem": {"type": "lagrange_top_euler_angles", "I2": 2, "I3": 1, "b": 1, "k2": 0.6, "k3": 0.8},
            "initial": {"euler_angles": [0.1, 1.0, 0.2], "euler_rates": [0.3, 0.1, 5.0]},
            "integrator": {"method": "rkmk4", "dt": 0.01}, "t_end": 70, "output": {"every": 250}})"},
+      // A gyrostat: the rotors' momenta are part of the checkpointed state.
+      {"gyrostat",
+       R"({"problem": {"type": "gyrostat", "inertia": [3, 2, 1],
+                       "rotors": [{"axis": [1, 0, 0], "inertia": 0.1, "friction": 0.2, "rate": 5},
+                                  {"axis": [0, 0.6, 0.8], "inertia": 0.1, "motor_torque": 0.01}]},
+           "initial": {"omega": [0.1, 0.2, 1]},
+           "integrator": {"method": "lgvi_yoshida4", "dt": 0.01}, "t_end": 70, "output": {"every": 250}})"},
   };
   for (const ResumeCase& c : cases) {
     SCOPED_TRACE(c.name);

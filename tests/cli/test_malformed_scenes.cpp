@@ -78,6 +78,17 @@ const std::string rigid_body = R"({
 }
 )";
 
+const std::string gyrostat = R"({
+  "problem": {"type": "gyrostat", "inertia": [3, 2, 1],
+              "rotors": [{"axis": [1, 0, 0], "inertia": 0.1, "friction": 0.2, "rate": 5},
+                         {"axis": [0, 1, 0], "inertia": 0.1}, {"axis": [0, 0, 1], "inertia": 0.1}],
+              "wheel_control": {"target": {"quaternion": [1, 0, 0, 0]}, "k_R": 2, "k_Omega": 1}},
+  "initial": {"omega": [0.1, 0.2, 1]},
+  "integrator": {"method": "lgvi", "dt": 0.01},
+  "t_end": 0.1
+}
+)";
+
 const std::string lagrange = R"({
   "problem": {"type": "lagrange_top", "inertia": [2, 2, 1], "b": 1, "k": [0, 0.6, 0.8]},
   "initial": {"omega": [0.1, 0.2, 5]},
@@ -376,6 +387,29 @@ std::vector<Case> cases() {
        "1.118033988749895"},
       {"control_gain_missing", edit(rigid_body, "\"k_R\": 2, ", ""),
        "lgi: error: {file}: /problem/torques/2: missing key \"k_R\""},
+      {"rotor_axis_not_unit", edit(gyrostat, "\"axis\": [0, 1, 0]", "\"axis\": [0, 1, 1]"),
+       "lgi: error: {file}: /problem/rotors/1/axis: must be a unit vector (to 0.01), its length is 1.4142135623730951"},
+      {"rotor_friction_negative", edit(gyrostat, "\"friction\": 0.2", "\"friction\": -0.2"),
+       "lgi: error: {file}: /problem/rotors/0/friction: must be >= 0, got -0.2"},
+      {"rotor_inertia_too_large", edit(gyrostat, "\"inertia\": 0.1, \"friction\"", "\"inertia\": 3, \"friction\""),
+       "lgi: error: {file}: /problem/rotors: the rotors' axial inertias leave the body no inertia about some axis (J - "
+       "sum I_s a a^T has smallest eigenvalue 0; the problem's inertia is the whole body's with the rotors locked)"},
+      {"rotors_none",
+       R"({"problem": {"type": "gyrostat", "inertia": [3, 2, 1], "rotors": []},
+           "initial": {"omega": [0, 0, 1]}, "integrator": {"method": "lgvi", "dt": 0.01}, "t_end": 0.1})",
+       "lgi: error: {file}: /problem/rotors: a gyrostat carries 1 to 6 rotors, got 0"},
+      {"wheel_gain_wrong_shape", edit(gyrostat, "\"k_R\": 2", "\"k_R\": [2, 2, 2]"),
+       "lgi: error: {file}: /problem/wheel_control/k_R: expected a number, got an array of 3"},
+      {"wheel_axes_flat", edit(gyrostat, "\"axis\": [0, 0, 1]", "\"axis\": [0, 1, 0]"),
+       "lgi: error: {file}: /problem/wheel_control: the rotors' axes do not span three dimensions (smallest eigenvalue "
+       "of A A^T 0): the wheels cannot apply every torque the law asks for"},
+      {"method_not_for_gyrostat", edit(gyrostat, "\"lgvi\"", "\"cf4\""),
+       "lgi: error: {file}: /integrator/method: method \"cf4\" does not apply to problem gyrostat (its rotors are "
+       "stepped with the body by the gyrostat's methods: lgvi and its compositions, and the RKMK tableaus in the "
+       "exponential chart, with fixed steps); it applies to free_body, heavy_top, lagrange_top, kovalevskaya_top, "
+       "satellite, potential, rigid_body (methods that apply to gyrostat: lgvi, rkmk4, lie_euler, rkmk_heun, rkmk3, "
+       "rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk_vern9, lgvi_yoshida4, lgvi_suzuki4, lgvi_yoshida6, lgvi_kahan_li6, "
+       "lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10)"},
       {"torques_not_an_array",
        R"({"problem": {"type": "rigid_body", "inertia": [1, 2, 3], "torques": {"type": "damping"}},
            "initial": {"omega": [0, 0, 1]}, "integrator": {"method": "rkmk4", "dt": 0.01}, "t_end": 0.1})",
@@ -450,11 +484,12 @@ std::vector<Case> cases() {
        "all 47)"},
       {"problem_misspelt", edit(h, "\"heavy_top\"", "\"heavytop\""),
        "lgi: error: {file}: /problem/type: unknown problem type \"heavytop\"; did you mean \"heavy_top\"? (known: "
-       "free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, rigid_body, "
+       "free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, rigid_body, gyrostat, "
        "lagrange_top_euler_angles)"},
       {"unknown_problem", edit(h, "\"heavy_top\"", "\"spinning_plate\""),
        "lgi: error: {file}: /problem/type: unknown problem type \"spinning_plate\" (known: free_body, "
-       "heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, rigid_body, lagrange_top_euler_angles)"},
+       "heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, rigid_body, gyrostat, "
+       "lagrange_top_euler_angles)"},
       {"method_not_for_problem", edit(h, "\"lgvi\"", "\"lagrange_split\""),
        "lgi: error: {file}: /integrator/method: method \"lagrange_split\" does not apply to problem "
        "heavy_top; it applies to lagrange_top (methods that apply to heavy_top: lgvi, rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, "
@@ -466,8 +501,8 @@ std::vector<Case> cases() {
        "split_dmv_kahan_li6, split_dmv_kahan_li8, split_dmv_sofroniou_spaletta10)"},
       {"splitting_on_euler_angles", edit(euler_angles, "\"rkmk4\"", "\"lgvi\""),
        "lgi: error: {file}: /integrator/method: method \"lgvi\" does not apply to problem lagrange_top_euler_angles; "
-       "it applies to free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, rigid_body (methods "
-       "that apply to lagrange_top_euler_angles: rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk_vern9)"},
+       "it applies to free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, rigid_body, gyrostat "
+       "(methods that apply to lagrange_top_euler_angles: rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, rkmk_dp8, rkmk_vern9)"},
       {"tolerance_on_explicit_method", edit(h, "\"lgvi\"", "\"rkmk4\""),
        "lgi: error: {file}: /integrator/max_iterations: unknown key for method rkmk4 (allowed: method, "
        "dt, projection)"},
@@ -539,7 +574,7 @@ class MalformedScenes : public lgi::test::CommandTest {
 
 TEST_F(MalformedScenes, TheValidScenesTheCasesEditRun) {
   for (const std::string* scene :
-       {&heavy_top, &adaptive, &potential, &satellite, &lagrange, &kovalevskaya, &euler_angles}) {
+       {&heavy_top, &adaptive, &potential, &satellite, &lagrange, &kovalevskaya, &euler_angles, &gyrostat}) {
     const fs::path file = write("valid.json", *scene);
     const Result r = run(file, dir_ / "valid.csv");
     EXPECT_EQ(r.status, 0) << *scene << r.err;
