@@ -3,7 +3,8 @@
 
     /usr/bin/python3 scripts/torque_examples.py [--lgi build/lgi]
 
-For each of scenes/damped_top.json, scenes/attitude_slew.json and scenes/torque_replay.json it writes a copy of the
+For each of scenes/damped_top.json, scenes/attitude_slew.json, scenes/torque_replay.json, scenes/flat_spin.json and
+scenes/wheel_slew.json it writes a copy of the
 scene with dense outputs into a temporary directory (the scenes themselves are read, never written; a torque table's
 path is made absolute in the copy), runs `lgi run` on it and draws docs/img/torque_<name>.png from the CSV. The
 figures' numbers that docs/torques.md quotes are printed. Needs matplotlib (Debian: python3-matplotlib, under
@@ -143,6 +144,48 @@ def torque_replay(lgi, workdir, png):
           % (err.max(), predicted, t[-1]))
 
 
+def flat_spin(lgi, workdir, png):
+    scene, c = run(lgi, os.path.join(ROOT, "scenes", "flat_spin.json"), 100, workdir)
+    t, E = c["t"], c["energy"]
+    m = np.stack([c["momentum_1"], c["momentum_2"], c["momentum_3"]], axis=1)
+    I_max = max(scene["problem"]["inertia"])
+    flat = float(m[0] @ m[0]) / (2 * I_max)
+    # The angle of the body's minor axis e3 (the initial spin axis) from the angular momentum.
+    nutation = np.degrees([math.acos(max(-1.0, min(1.0, float(R[:, 2] @ mi) / np.linalg.norm(mi)))) for R, mi in zip(c["R"], m)])
+    drift = np.max(np.linalg.norm(m - m[0], axis=1)) / np.linalg.norm(m[0])
+
+    def energy_panel(a):
+        a.plot(t, E, label="energy")
+        a.axhline(flat, color="gray", linestyle="--", label="|H|^2 / (2 I_max)")
+        a.legend(fontsize=8)
+
+    two_panels(png, [(energy_panel, "t", "kinetic energy", "Explorer 1: energy falls at constant |H|"),
+                     (lambda a: a.plot(t, nutation), "t", "angle of the minor axis from H (deg)",
+                      "from a minor-axis spin to a flat spin")])
+    print("flat_spin: E from %.6f to %.15g, |H|^2/(2 I_max) = %.15g (relative %.2e); nutation %.2f -> %.4f deg; "
+          "largest rise between rows %.3e; |RH - R0H0|/|H0| <= %.2e"
+          % (E[0], E[-1], flat, (E[-1] - flat) / flat, nutation[0], nutation[-1], np.diff(E).max(), drift))
+
+
+def wheel_slew(lgi, workdir, png):
+    scene, c = run(lgi, os.path.join(ROOT, "scenes", "wheel_slew.json"), 5, workdir)
+    t = c["t"]
+    err = np.array([angle(R) for R in c["R"]])  # the target is R = I
+    m = np.stack([c["momentum_1"], c["momentum_2"], c["momentum_3"]], axis=1)
+    drift = np.max(np.linalg.norm(m - m[0], axis=1)) / np.linalg.norm(m[0])
+
+    def wheels_panel(a):
+        for i in range(len(scene["problem"]["rotors"])):
+            a.plot(t, c["rotor_rate_%d" % (i + 1)], label="wheel %d" % (i + 1))
+        a.legend(fontsize=8)
+
+    two_panels(png, [(lambda a: a.semilogy(t, err), "t (s)", "angle to the target (rad)",
+                      "PD slew through three reaction wheels"),
+                     (wheels_panel, "t (s)", "wheel rate relative to the body (rad/s)", "wheel rates")])
+    print("wheel_slew: angle to the target %.3f rad at t = 0, %.3e rad at t = %g; |RH - R0H0|/|H0| <= %.2e"
+          % (err[0], err[-1], t[-1], drift))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--lgi", default=os.path.join(ROOT, "build", "lgi"))
@@ -153,6 +196,8 @@ def main():
         damped_top(args.lgi, workdir, os.path.join(img, "torque_damped_top.png"))
         attitude_slew(args.lgi, workdir, os.path.join(img, "torque_attitude_slew.png"))
         torque_replay(args.lgi, workdir, os.path.join(img, "torque_replay.png"))
+        flat_spin(args.lgi, workdir, os.path.join(img, "torque_flat_spin.png"))
+        wheel_slew(args.lgi, workdir, os.path.join(img, "torque_wheel_slew.png"))
     return 0
 
 
