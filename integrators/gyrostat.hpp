@@ -54,9 +54,8 @@
 #include "butcher_tableaus.hpp"
 #include "lgvi.hpp"
 
-#include <Eigen/LU>
-
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <utility>
 
@@ -98,7 +97,7 @@ class GyrostatLgvi {
   /// One step from t to t + τ (either sign); y untouched unless ok (not_converged from the body part's Newton,
   /// non_finite). Cost: two forcing evaluations, the body's LGVI solve, two 3×3 exponentials, one 9×9 LU where a
   /// torque reads the state; no allocation.
-  LGI_FLATTEN StepStatus step(Internal& y, const Scalar& t, const Scalar& tau) {
+  StepStatus step(Internal& y, const Scalar& t, const Scalar& tau) {
     using T = Scalar;
     const T s = T(0.5) * tau;
     Internal z = y;
@@ -133,11 +132,35 @@ class GyrostatLgvi {
     if (reads_state_) {
       typename Dynamics::MatZ A = -s * dyn_.forcing_jacobian(t, z.R);
       A.diagonal().array() += Scalar(1);
-      dz = Eigen::PartialPivLU<typename Dynamics::MatZ>(A).solve(dz);
+      solve_in_place(A, dz, 3 + dyn_.problem().rotor_count);
     }
     z.m += dz.template head<3>();
     z.h += dz.template tail<N>();
   }
+  /// x ← A⁻¹ x on the leading n × n block (the rest of A is the identity, of x zero): Gaussian elimination with
+  /// partial pivoting. A is I − sD with s D small at any step the body part converges for, so the pivots are ≈ 1.
+  static void solve_in_place(typename Dynamics::MatZ& A, VecZ& x, int n) {
+    for (int k = 0; k < n; ++k) {
+      int p = k;
+      for (int i = k + 1; i < n; ++i)
+        if (std::abs(value_of(A(i, k))) > std::abs(value_of(A(p, k)))) p = i;
+      if (p != k) {
+        A.row(k).swap(A.row(p));
+        std::swap(x(k), x(p));
+      }
+      for (int i = k + 1; i < n; ++i) {
+        const Scalar f = A(i, k) / A(k, k);
+        for (int j = k + 1; j < n; ++j) A(i, j) -= f * A(k, j);
+        x(i) -= f * x(k);
+      }
+    }
+    for (int k = n - 1; k >= 0; --k) {
+      Scalar r = x(k);
+      for (int j = k + 1; j < n; ++j) r -= A(k, j) * x(j);
+      x(k) = r / A(k, k);
+    }
+  }
+
   void gyro(Internal& z, const Scalar& s) const {
     const Mat3<Scalar> dE = so3::exp_increment(Vec3<Scalar>(-s * dyn_.rotor_drift(z.h)));  // exp(−s ŵ) − I
     z.R += z.R * dE;  // without rounding the 1s of exp(−s ŵ)'s diagonal (lgvi.hpp)
@@ -179,7 +202,7 @@ class GyrostatRkmk {
   State<Scalar> to_state(const Internal& y) const { return {y.R, dyn_.omega(y.R, y.m, y.h)}; }
 
   /// One step from t to t + τ; y untouched unless the result is finite. Cost: one forcing and one J_r⁻¹ per stage.
-  LGI_FLATTEN StepStatus step(Internal& y, const Scalar& t, const Scalar& tau) const {
+  StepStatus step(Internal& y, const Scalar& t, const Scalar& tau) const {
     std::array<V, S> K;
     [&]<int... I>(std::integer_sequence<int, I...>) { (stage<I>(y, t, tau, K), ...); }(std::make_integer_sequence<int, S>{});
     const V d = tau * tableaus::weighted_sum<Tableau, tableaus::Weights::b, S>(K);

@@ -10,8 +10,6 @@
 #include <lgi/integrators/gyrostat.hpp>
 #include <lgi/problems/gyrostat.hpp>
 
-#include <Eigen/Eigenvalues>
-
 #include <cmath>
 #include <memory>
 #include <span>
@@ -168,12 +166,16 @@ void read_rotors(const Node& list, G& g) {
     if (auto m = r.find("motor_torque")) rotor.motor = m->number();
     if (auto w = r.find("rate")) rotor.rate = w->number();
   }
-  // J_b = J − Σ I_s a aᵀ must stay positive definite: a rotor's axial inertia is part of the body's about that axis.
-  const double smallest = Eigen::SelfAdjointEigenSolver<Mat3<double>>(g.body_inertia(), Eigen::EigenvaluesOnly).eigenvalues()(0);
-  const double largest = Eigen::SelfAdjointEigenSolver<Mat3<double>>(g.body.inertia, Eigen::EigenvaluesOnly).eigenvalues()(2);
-  if (!(smallest > 1e-12 * largest))
-    list.fail("the rotors' axial inertias leave the body no inertia about some axis (J - sum I_s a a^T has smallest "
-              "eigenvalue " + format_number(smallest) + "; the problem's inertia is the whole body's with the rotors locked)");
+  // J_b = J − Σ I_s a aᵀ must stay positive definite (a rotor's axial inertia is part of the body's about that axis):
+  // its leading minors positive (Sylvester), to 1e-12 of J's scale.
+  const Mat3<double> Jb = g.body_inertia();
+  const double scale = g.body.inertia.trace();
+  const double minors[3] = {Jb(0, 0), Jb(0, 0) * Jb(1, 1) - Jb(0, 1) * Jb(1, 0), Jb.determinant()};
+  for (int k = 0; k < 3; ++k)
+    if (!(minors[k] > 1e-12 * std::pow(scale, k + 1)))
+      list.fail("the rotors' axial inertias leave the body no inertia about some axis (J - sum I_s a a^T is not "
+                "positive definite: its leading " + std::to_string(k + 1) + "x" + std::to_string(k + 1) + " minor is " +
+                format_number(minors[k]) + "; the problem's inertia is the whole body's with the rotors locked)");
 }
 
 // "wheel_control": {"target": attitude, "target_omega": [..], "k_R": ≥ 0, "k_Omega": ≥ 0}: the PD law through the rotors.
@@ -186,9 +188,10 @@ void read_wheel_control(const Node& w, G& g) {
   g.k_Omega = w.at("k_Omega").non_negative();
   Eigen::Matrix<double, 3, G::max_rotors> A = Eigen::Matrix<double, 3, G::max_rotors>::Zero();
   for (int i = 0; i < g.rotor_count; ++i) A.col(i) = g.rotors[i].axis;
-  const double smallest = Eigen::SelfAdjointEigenSolver<Mat3<double>>(A * A.transpose(), Eigen::EigenvaluesOnly).eigenvalues()(0);
-  if (!(smallest > 1e-6))
-    w.fail("the rotors' axes do not span three dimensions (smallest eigenvalue of A A^T " + format_number(smallest) +
+  // A Aᵀ = Σ a_i a_iᵀ invertible: det ≥ 1e-6 (axes at 0.1° from a plane give about 1e-6 per pair of axes).
+  const double det = Mat3<double>(A * A.transpose()).determinant();
+  if (!(det > 1e-6))
+    w.fail("the rotors' axes do not span three dimensions (det(A A^T) = " + format_number(det) +
            "): the wheels cannot apply every torque the law asks for");
   g.wheel_control = true;
 }

@@ -393,7 +393,8 @@ std::vector<Case> cases() {
        "lgi: error: {file}: /problem/rotors/0/friction: must be >= 0, got -0.2"},
       {"rotor_inertia_too_large", edit(gyrostat, "\"inertia\": 0.1, \"friction\"", "\"inertia\": 3, \"friction\""),
        "lgi: error: {file}: /problem/rotors: the rotors' axial inertias leave the body no inertia about some axis (J - "
-       "sum I_s a a^T has smallest eigenvalue 0; the problem's inertia is the whole body's with the rotors locked)"},
+       "sum I_s a a^T is not positive definite: its leading 1x1 minor is 0; the problem's inertia is the whole body's "
+       "with the rotors locked)"},
       {"rotors_none",
        R"({"problem": {"type": "gyrostat", "inertia": [3, 2, 1], "rotors": []},
            "initial": {"omega": [0, 0, 1]}, "integrator": {"method": "lgvi", "dt": 0.01}, "t_end": 0.1})",
@@ -401,8 +402,8 @@ std::vector<Case> cases() {
       {"wheel_gain_wrong_shape", edit(gyrostat, "\"k_R\": 2", "\"k_R\": [2, 2, 2]"),
        "lgi: error: {file}: /problem/wheel_control/k_R: expected a number, got an array of 3"},
       {"wheel_axes_flat", edit(gyrostat, "\"axis\": [0, 0, 1]", "\"axis\": [0, 1, 0]"),
-       "lgi: error: {file}: /problem/wheel_control: the rotors' axes do not span three dimensions (smallest eigenvalue "
-       "of A A^T 0): the wheels cannot apply every torque the law asks for"},
+       "lgi: error: {file}: /problem/wheel_control: the rotors' axes do not span three dimensions (det(A A^T) = 0): the "
+       "wheels cannot apply every torque the law asks for"},
       {"method_not_for_gyrostat", edit(gyrostat, "\"lgvi\"", "\"cf4\""),
        "lgi: error: {file}: /integrator/method: method \"cf4\" does not apply to problem gyrostat (its rotors are "
        "stepped with the body by the gyrostat's methods: lgvi and its compositions, and the RKMK tableaus in the "
