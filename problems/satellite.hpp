@@ -72,9 +72,8 @@ struct Satellite {
     const Vec3<T> rho = R.transpose() * radial(t);
     return T(1.5) * n * n * rho.dot(inertia * rho);
   }
-  /// M(t, R) = 3 n² ρ × (J ρ), body frame, ρ = Rᵀ r̂(t). Out of line (noinline): one call per stage, for the compile
-  /// time of the methods' flattened steps, each of which would carry a copy (docs/performance.md, "Build time").
-  [[gnu::noinline]] Vec3<T> torque(const T& t, const Mat3<T>& R) const {
+  /// M(t, R) = 3 n² ρ × (J ρ), body frame, ρ = Rᵀ r̂(t).
+  Vec3<T> torque(const T& t, const Mat3<T>& R) const {
     const Vec3<T> rho = R.transpose() * radial(t);
     return (T(3) * n * n) * Vec3<T>(rho.cross(inertia * rho));
   }
