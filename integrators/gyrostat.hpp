@@ -61,14 +61,38 @@
 
 namespace lgi {
 
-/// The gyrostat LGVI (this header) on P = Gyrostat<T>: order 2, symmetric, R H exact under internal torques.
+/// What the gyrostat's steppers share: the problem's precomputed dynamics and the maps between (R, Ω) and (R, m, h).
 template <class P>
-class GyrostatLgvi {
+class GyrostatSteps {
  public:
   using Problem = P;                           ///< Gyrostat<T>
   using Scalar = typename P::Scalar;           ///< its scalar
   using Internal = GyrostatState<Scalar>;      ///< (R, m, h)
   using Dynamics = GyrostatDynamics<Scalar>;   ///< J_b⁻¹, A, A⁺ and the forcing
+
+  /// Precomputes the problem's dynamics.
+  explicit GyrostatSteps(const P& problem) : dyn_(problem) {}
+  /// (R, m, h) of x, the rotors at the problem's initial relative rates.
+  Internal to_internal(const State<Scalar>& x, const Scalar&) const { return dyn_.state(x.R, x.Omega); }
+  /// (R, Ω) of y.
+  State<Scalar> to_state(const Internal& y) const { return {y.R, dyn_.omega(y.R, y.m, y.h)}; }
+  /// The problem's precomputed dynamics.
+  const Dynamics& dynamics() const { return dyn_; }
+
+ protected:
+  Dynamics dyn_;  ///< the problem's dynamics
+};
+
+/// The gyrostat LGVI (this header) on P = Gyrostat<T>: order 2, symmetric, R H exact under internal torques.
+template <class P>
+class GyrostatLgvi : public GyrostatSteps<P> {
+  using Base = GyrostatSteps<P>;
+  using Base::dyn_;
+
+ public:
+  using typename Base::Dynamics;
+  using typename Base::Internal;
+  using typename Base::Scalar;
 
   /// The traits (scene name `lgvi`, as on the bodies without rotors; the summary says "forced" where a torque reads
   /// the state).
@@ -87,12 +111,7 @@ class GyrostatLgvi {
 
   /// Copies the problem; options as the LGVI's (its Newton solve of the body part).
   explicit GyrostatLgvi(const P& problem, const StepperOptions& options = {})
-      : dyn_(problem), body_(FreeBody<Scalar>{problem.body_inertia()}, options), reads_state_(dyn_.reads_state()) {}
-
-  /// (R, m, h) of x, the rotors at the problem's initial relative rates.
-  Internal to_internal(const State<Scalar>& x, const Scalar&) const { return dyn_.state(x.R, x.Omega); }
-  /// (R, Ω) of y.
-  State<Scalar> to_state(const Internal& y) const { return {y.R, dyn_.omega(y.R, y.m, y.h)}; }
+      : Base(problem), body_(FreeBody<Scalar>{problem.body_inertia()}, options) {}
 
   /// One step from t to t + τ (either sign); y untouched unless ok (not_converged from the body part's Newton,
   /// non_finite). Cost: two forcing evaluations, the body's LGVI solve, two 3×3 exponentials, one 9×9 LU where a
@@ -115,8 +134,6 @@ class GyrostatLgvi {
 
   /// Newton updates of the body part over the stepper's lifetime.
   std::int64_t newton_iterations() const { return body_.newton_iterations(); }
-  /// The problem's precomputed dynamics.
-  const Dynamics& dynamics() const { return dyn_; }
 
  private:
   using VecZ = typename Dynamics::VecZ;
@@ -129,7 +146,7 @@ class GyrostatLgvi {
   }
   void kick_implicit(Internal& z, const Scalar& t, const Scalar& s) const {
     VecZ dz = s * dyn_.forcing(t, z.R, z.m, z.h);
-    if (reads_state_) {
+    if (dyn_.reads_state()) {
       typename Dynamics::MatZ A = -s * dyn_.forcing_jacobian(t, z.R);
       A.diagonal().array() += Scalar(1);
       solve_in_place(A, dz, 3 + dyn_.problem().rotor_count);
@@ -166,19 +183,19 @@ class GyrostatLgvi {
     z.R += z.R * dE;  // without rounding the 1s of exp(−s ŵ)'s diagonal (lgvi.hpp)
   }
 
-  Dynamics dyn_;
   Lgvi<FreeBody<Scalar>> body_;
-  bool reads_state_;
 };
 
 /// RKMK with the explicit tableau Tableau on P = Gyrostat<T> (this header): the tableau's order, fixed steps.
 template <const auto& Tableau, class P>
-class GyrostatRkmk {
+class GyrostatRkmk : public GyrostatSteps<P> {
+  using Base = GyrostatSteps<P>;
+  using Base::dyn_;
+
  public:
-  using Problem = P;                          ///< Gyrostat<T>
-  using Scalar = typename P::Scalar;          ///< its scalar
-  using Internal = GyrostatState<Scalar>;     ///< (R, m, h)
-  using Dynamics = GyrostatDynamics<Scalar>;  ///< J_b⁻¹, A, A⁺ and the forcing
+  using typename Base::Dynamics;
+  using typename Base::Internal;
+  using typename Base::Scalar;
 
   /// The traits: the tableau's name and order.
   static constexpr MethodTraits traits{
@@ -194,12 +211,7 @@ class GyrostatRkmk {
   };
 
   /// Copies the problem.
-  explicit GyrostatRkmk(const P& problem, const StepperOptions& = {}) : dyn_(problem) {}
-
-  /// (R, m, h) of x, the rotors at the problem's initial relative rates.
-  Internal to_internal(const State<Scalar>& x, const Scalar&) const { return dyn_.state(x.R, x.Omega); }
-  /// (R, Ω) of y.
-  State<Scalar> to_state(const Internal& y) const { return {y.R, dyn_.omega(y.R, y.m, y.h)}; }
+  explicit GyrostatRkmk(const P& problem, const StepperOptions& = {}) : Base(problem) {}
 
   /// One step from t to t + τ; y untouched unless the result is finite. Cost: one forcing and one J_r⁻¹ per stage.
   StepStatus step(Internal& y, const Scalar& t, const Scalar& tau) const {
@@ -214,9 +226,6 @@ class GyrostatRkmk {
     y = z;
     return StepStatus::ok;
   }
-
-  /// The problem's precomputed dynamics.
-  const Dynamics& dynamics() const { return dyn_; }
 
  private:
   static constexpr int N = Dynamics::N;
@@ -241,8 +250,6 @@ class GyrostatRkmk {
     K[I].template head<3>() = I == 0 ? Omega : Vec3<T>(so3::right_jacobian_inverse(u) * Omega);
     K[I].template tail<3 + N>() = dyn_.forcing(t + T(Tableau.c[I]) * tau, R, m, h);
   }
-
-  Dynamics dyn_;
 };
 
 }  // namespace lgi

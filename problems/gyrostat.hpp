@@ -133,6 +133,15 @@ class GyrostatDynamics {
       const Mat3<T> AAt = A_ * A_.transpose();
       pinv_ = A_.transpose() * AAt.inverse();
     }
+    Jb_inv_A_ = -Jb_inv_ * A_;
+    dg_dOmega_ = c_.asDiagonal() * A_.transpose();
+    if (g.wheel_control) dg_dOmega_ += g.k_Omega * pinv_;
+    c_over_Is_ = c_.cwiseProduct(inv_Is_);
+    const TorquedBody<T>& b = g.body;
+    has_external_ = value_of(b.b) != 0 || b.has_constant || b.table || b.has_damping || b.has_control;
+    bool friction = false;
+    for (int i = 0; i < g.rotor_count; ++i) friction = friction || value_of(g.rotors[i].friction) != 0;
+    reads_state_ = b.has_damping || b.has_control || g.wheel_control || friction;
   }
 
   /// The problem.
@@ -159,16 +168,9 @@ class GyrostatDynamics {
     return y;
   }
   /// True when a term of M or g reads (m, h) (damping, control, friction): the implicit kick needs its solve.
-  bool reads_state() const {
-    bool friction = false;
-    for (int i = 0; i < g_.rotor_count; ++i) friction = friction || value_of(g_.rotors[i].friction) != 0;
-    return g_.body.has_damping || g_.body.has_control || g_.wheel_control || friction;
-  }
+  bool reads_state() const { return reads_state_; }
   /// True when M is not zero (some external term present).
-  bool has_external() const {
-    const TorquedBody<T>& b = g_.body;
-    return value_of(b.b) != 0 || b.has_constant || b.table || b.has_damping || b.has_control;
-  }
+  bool has_external() const { return has_external_; }
 
   /// (m', h') at (t, R, m, h): (R M(t, R, Ω), g).
   VecZ forcing(const T& t, const Mat3<T>& R, const Vec3<T>& m, const VecN& h) const {
@@ -189,15 +191,13 @@ class GyrostatDynamics {
     // dΩ/d(m, h) = J_b⁻¹ [Rᵀ, −A]
     Eigen::Matrix<T, 3, Z> dOmega;
     dOmega.template leftCols<3>() = Jb_inv_ * R.transpose();
-    dOmega.template rightCols<N>() = -Jb_inv_ * A_;
+    dOmega.template rightCols<N>() = Jb_inv_A_;
     MatZ D = MatZ::Zero();
     const Vec3<T> zero = Vec3<T>::Zero();
     D.template topRows<3>() = R * g_.body.torque_omega_jacobian(t, R, zero) * dOmega;
     // g: −c ∘ (h / I_s − Aᵀ Ω) + A⁺ k_Ω Ω
-    Eigen::Matrix<T, N, 3> dg_dOmega = c_.asDiagonal() * A_.transpose();
-    if (g_.wheel_control) dg_dOmega += g_.k_Omega * pinv_;
-    D.template bottomRows<N>() = dg_dOmega * dOmega;
-    D.template bottomRightCorner<N, N>() -= Eigen::Matrix<T, N, N>((c_.cwiseProduct(inv_Is_)).asDiagonal());
+    D.template bottomRows<N>() = dg_dOmega_ * dOmega;
+    D.template bottomRightCorner<N, N>() -= Eigen::Matrix<T, N, N>(c_over_Is_.asDiagonal());
     return D;
   }
   /// E = ½ Ω·J_bΩ + Σ h_i² / (2 I_s,i) + V(R) (V: the external terms' potential, TorquedBody::potential).
@@ -213,6 +213,10 @@ class GyrostatDynamics {
   Eigen::Matrix<T, 3, N> A_;
   Eigen::Matrix<T, N, 3> pinv_ = Eigen::Matrix<T, N, 3>::Zero();
   VecN inv_Is_ = VecN::Zero(), c_ = VecN::Zero(), g0_ = VecN::Zero();
+  Eigen::Matrix<T, 3, N> Jb_inv_A_;   ///< −J_b⁻¹ A: ∂Ω/∂h
+  Eigen::Matrix<T, N, 3> dg_dOmega_;  ///< ∂g/∂Ω = diag(c) Aᵀ + k_Ω A⁺
+  VecN c_over_Is_;                    ///< c_i / I_s,i: −∂g_i/∂h_i beyond the Ω terms
+  bool has_external_ = false, reads_state_ = false;
 };
 
 }  // namespace lgi
