@@ -64,6 +64,14 @@ Vec3<T> vee(const Mat3<T>& M) {
 inline constexpr double small_angle_theta2 = 1e-2;
 
 namespace detail {
+// True for the scalars that take the small-angle series of this header (float, double, long double and Jets of them):
+// its coefficients are doubles and its terms reach double's round-off. A wider real scalar (binary128, Boost's
+// cpp_bin_float) takes the closed forms at every angle, to its own precision: the series' double coefficients would
+// put an error of ≈ 1e-17 θ³ in every exponential (a global error O(h²) under an RKMK step), and their truncation one
+// of ≈ θ¹².
+template <class T>
+inline constexpr bool small_angle_series_v = std::is_floating_point_v<decltype(value_of(std::declval<const T&>()))>;
+
 // Horner evaluation of c0 + c1 x + c2 x² + … (coefficients as doubles, converted to T once each).
 template <class T, std::size_t N>
 T horner(const T& x, const double (&c)[N]) {
@@ -111,8 +119,12 @@ template <class T>
 Coefficients<T> exp_coefficients(const Vec3<T>& w) {
   const T theta2 = w.squaredNorm();
   static_assert(trig::exp_taylor_theta2 == small_angle_theta2);
-  if (value_of(theta2) < small_angle_theta2)
-    return {theta2, detail::horner(theta2, trig::exp_taylor_A), detail::horner(theta2, trig::exp_taylor_B)};
+  if constexpr (detail::small_angle_series_v<T>) {
+    if (value_of(theta2) < small_angle_theta2)
+      return {theta2, detail::horner(theta2, trig::exp_taylor_A), detail::horner(theta2, trig::exp_taylor_B)};
+  } else if (value_of(theta2) == 0) {
+    return {theta2, T(1), T(1) / T(2)};
+  }
   return detail::exp_coefficients_trig(theta2);
 }
 
@@ -174,7 +186,7 @@ Vec3<T> log(const Mat3<T>& R) {
   const Vec3<T> v = vee(R);               // sin θ · n
   if (value_of(c) >= 0) {                 // θ ≤ π/2: θ = asin(|v|)
     const T s2 = v.squaredNorm();
-    if (value_of(s2) < small_angle_theta2) {
+    if (detail::small_angle_series_v<T> ? value_of(s2) < small_angle_theta2 : value_of(s2) == 0) {
       // asin(s)/s = Σ (2n)! / (4ⁿ (n!)² (2n+1)) s^(2n); exact to < 1e-20 for s² < 1e-2.
       static constexpr double a[] = {1.0,          1.0 / 6,        3.0 / 40,        5.0 / 112,       35.0 / 1152,
                                      63.0 / 2816, 231.0 / 13312, 143.0 / 10240, 6435.0 / 557056};
@@ -202,7 +214,7 @@ T jacobian_inverse_coefficient(const T& theta2) {
   using std::sin;
   using std::sqrt;
   using std::tan;
-  if (value_of(theta2) < small_angle_theta2) {
+  if (detail::small_angle_series_v<T> ? value_of(theta2) < small_angle_theta2 : value_of(theta2) == 0) {
     static constexpr double d[] = {1.0 / 12, 1.0 / 720, 1.0 / 30240, 1.0 / 1209600, 1.0 / 47900160};
     return detail::horner(theta2, d);
   }
@@ -218,7 +230,7 @@ Mat3<T> right_jacobian(const Vec3<T>& w) {
   using std::sqrt;
   const T theta2 = w.squaredNorm();
   T B, C;  // (1 − cos θ)/θ², (θ − sin θ)/θ³
-  if (value_of(theta2) < small_angle_theta2) {
+  if (detail::small_angle_series_v<T> ? value_of(theta2) < small_angle_theta2 : value_of(theta2) == 0) {
     static constexpr double b[] = {0.5, -1.0 / 24, 1.0 / 720, -1.0 / 40320, 1.0 / 3628800, -1.0 / 479001600};
     static constexpr double c[] = {1.0 / 6, -1.0 / 120, 1.0 / 5040, -1.0 / 362880, 1.0 / 39916800, -1.0 / 6227020800};
     B = detail::horner(theta2, b);

@@ -157,10 +157,11 @@ class GyrostatLgvi : public GyrostatSteps<P> {
   /// x ← A⁻¹ x on the leading n × n block (the rest of A is the identity, of x zero): Gaussian elimination with
   /// partial pivoting. A is I − sD with s D small at any step the body part converges for, so the pivots are ≈ 1.
   static void solve_in_place(typename Dynamics::MatZ& A, VecZ& x, int n) {
+    using std::abs;
     for (int k = 0; k < n; ++k) {
       int p = k;
       for (int i = k + 1; i < n; ++i)
-        if (std::abs(value_of(A(i, k))) > std::abs(value_of(A(p, k)))) p = i;
+        if (abs(value_of(A(i, k))) > abs(value_of(A(p, k)))) p = i;
       if (p != k) {
         A.row(k).swap(A.row(p));
         std::swap(x(k), x(p));

@@ -135,25 +135,13 @@ double distance(const State<T>& a, const State<T>& b) {
 // latter two runs in binary128 differed by 2e-30 to 3e-29 on the skew top, with it by 1e-32.
 // Only rational coefficients ((n_j/n_m)² − 1 from integers): nothing shared with the methods measured but the
 // problem data and binary128 arithmetic.
-template <class T, RigidBodyProblem P>
-State<T> gbs_embedding(const P& problem, const State<double>& x0, double t_end, int macro_steps, int k) {
+//
+// gbs_extrapolate is the scheme on any y' = f(t, y) (V an Eigen vector of T); gbs_embedding applies it to the rigid
+// body, tests/integrators/test_quad_order.cpp to the gyrostat's (R, m, h).
+template <class T, class V, class F>
+V gbs_extrapolate(const F& f, V y, double t_end, int macro_steps, int k) {
   static constexpr int sequence[] = {2, 4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256};
   EXPECT_LE(k, 14);
-  const auto p = problem.template cast<T>();
-  const Mat3<T> J = p.inertia;
-  const Mat3<T> J_inv = J.inverse();
-  using V = Eigen::Matrix<T, 12, 1>;
-  const auto f = [&](const T& t, const V& y) {
-    const Mat3<T> R = Eigen::Map<const Mat3<T>>(y.data());
-    const Vec3<T> W = y.template tail<3>();
-    V d;
-    Eigen::Map<Mat3<T>>(d.data()) = R * so3::hat(W);
-    d.template tail<3>() = J_inv * Vec3<T>((J * W).cross(W) + body_torque(p, t, R, W));
-    return d;
-  };
-  V y;
-  Eigen::Map<Mat3<T>>(y.data()) = x0.R.cast<T>();
-  y.template tail<3>() = x0.Omega.cast<T>();
   const T H = T(t_end) / macro_steps;
   std::vector<V> table(static_cast<std::size_t>(k));  // table[m]: the column-(j − m) value of row j
   for (int s = 0; s < macro_steps; ++s) {
@@ -178,6 +166,27 @@ State<T> gbs_embedding(const P& problem, const State<double>& x0, double t_end, 
     }
     y = table[0];
   }
+  return y;
+}
+
+template <class T, RigidBodyProblem P>
+State<T> gbs_embedding(const P& problem, const State<double>& x0, double t_end, int macro_steps, int k) {
+  const auto p = problem.template cast<T>();
+  const Mat3<T> J = p.inertia;
+  const Mat3<T> J_inv = J.inverse();
+  using V = Eigen::Matrix<T, 12, 1>;
+  const auto f = [&](const T& t, const V& y) {
+    const Mat3<T> R = Eigen::Map<const Mat3<T>>(y.data());
+    const Vec3<T> W = y.template tail<3>();
+    V d;
+    Eigen::Map<Mat3<T>>(d.data()) = R * so3::hat(W);
+    d.template tail<3>() = J_inv * Vec3<T>((J * W).cross(W) + body_torque(p, t, R, W));
+    return d;
+  };
+  V y;
+  Eigen::Map<Mat3<T>>(y.data()) = x0.R.cast<T>();
+  y.template tail<3>() = x0.Omega.cast<T>();
+  y = gbs_extrapolate<T>(f, y, t_end, macro_steps, k);
   State<T> x;
   x.R = Eigen::Map<const Mat3<T>>(y.data());
   x.Omega = y.template tail<3>();

@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cmath>
+#include <stdexcept>
 #include <string_view>
 #include <vector>
 
@@ -128,6 +129,20 @@ inline double fitted_order(const std::vector<double>& h, const std::vector<doubl
     sxy += x * y;
   }
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+// ∫ f over [0, n h] from f at the n + 1 points k h (n a multiple of 8) by the composite 9-point closed Newton–Cotes
+// rule: weights 4h/14175 · (989, 5888, −928, 10496, −4540, …), exact for polynomials of degree ≤ 9, error O(h¹⁰) on
+// smooth data (the energy-balance tests integrate a method's power with it).
+template <class S>
+S newton_cotes9(const std::vector<S>& f, const S& h) {
+  static constexpr double w[9] = {989, 5888, -928, 10496, -4540, 10496, -928, 5888, 989};
+  const std::size_t n = f.size() - 1;
+  if (f.empty() || n % 8 != 0) throw std::invalid_argument("newton_cotes9: the number of intervals must be a multiple of 8");
+  S sum = S(0);
+  for (std::size_t panel = 0; panel + 8 <= n; panel += 8)
+    for (std::size_t k = 0; k <= 8; ++k) sum += S(w[k]) * f[panel + k];
+  return sum * S(4) * h / S(14175);
 }
 
 }  // namespace lgi::test

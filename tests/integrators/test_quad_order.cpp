@@ -23,15 +23,19 @@
 // Also: the coefficients meet the order conditions to the precision they are parsed in, the two decimal parsers
 // agree with each other and with libquadmath, and a control with the double literals run in binary128 shows the
 // floor (1.3e-16) that hides the order in double.
+#include "gyrostat_case.hpp"
 #include "quad_measure.hpp"
 #include "test_problems.hpp"
 
 #include <lgi/core/driver.hpp>
+#include <lgi/core/invariants.hpp>
 #include <lgi/integrators/butcher_tableaus.hpp>
+#include <lgi/integrators/gyrostat.hpp>
 #include <lgi/integrators/rkmk.hpp>
 #include <lgi/problems/free_body.hpp>
 #include <lgi/problems/heavy_top.hpp>
 
+#include <boost/multiprecision/cpp_int.hpp>
 #include <gtest/gtest.h>
 #include <quadmath.h>
 
@@ -267,6 +271,248 @@ TEST(QuadOrder, Dop853CayleyOnTheSkewHeavyTop) {
                                                             "rkmk_dp8_cayley skew top (binary128)");
   std::printf("(%.2f s)\n", seconds_since(t0));
   EXPECT_NEAR(fit.order, 8.0, 0.2);
+}
+
+// ---- the gyrostat --------------------------------------------------------------------------------------------
+
+// The three-rotor gyrostat of tests/integrators/test_gyrostat.cpp (friction, a motor, gravity, damping), whose
+// long-double fit of Verner 9(8) sees its h¹⁰ terms. Reference: GBS (quad_measure.hpp) on (R, m, h) in R^{9+3+6},
+// R' = R hat(Ω), (m, h)' = GyrostatDynamics::forcing, Ω = GyrostatDynamics::omega — the problem's data and its
+// right-hand side, nothing of the method.
+using GQ = Gyrostat<Q>;
+using GyrostatVern9Q = GyrostatRkmk<tableaus::verner9_in<__float128>, GQ>;
+using GyrostatDop853Q = GyrostatRkmk<tableaus::dop853_in<__float128>, GQ>;
+constexpr double gyrostat_t_end = 2.0;
+
+// R orthogonal to binary128's precision (two Newton steps of the polar decomposition, X ← (X + X⁻ᵀ)/2, from a
+// rotation of double's): with RᵀR − I ≈ 1e-16 the laboratory-frame momentum's torque R M reaches the body as
+// RᵀR M, and the energy balance would carry a floor of that size.
+Mat3<Q> orthonormal(Mat3<Q> X) {
+  for (int i = 0; i < 2; ++i) X = (X + Mat3<Q>(X.inverse().transpose())) / Q(2);
+  return X;
+}
+State<Q> gyrostat_start() {
+  const State<double> x0 = test::gyrostat_initial_state();
+  return {orthonormal(x0.R.cast<Q>()), x0.Omega.cast<Q>()};
+}
+
+GyrostatState<Q> gyrostat_gbs(int macro_steps, int k) {
+  const GyrostatDynamics<Q> dyn(test::three_rotor_gyrostat().cast<Q>());
+  constexpr int N = GQ::max_rotors;
+  using V = Eigen::Matrix<Q, 12 + N, 1>;
+  const auto f = [&](const Q& t, const V& y) {
+    const Mat3<Q> R = Eigen::Map<const Mat3<Q>>(y.data());
+    const Vec3<Q> m = y.template segment<3>(9);
+    const Eigen::Matrix<Q, N, 1> h = y.template tail<N>();
+    V d;
+    Eigen::Map<Mat3<Q>>(d.data()) = R * so3::hat(dyn.omega(R, m, h));
+    d.template tail<3 + N>() = dyn.forcing(t, R, m, h);
+    return d;
+  };
+  const State<Q> x0 = gyrostat_start();
+  const GyrostatState<Q> y0 = dyn.state(x0.R, x0.Omega);
+  V y;
+  Eigen::Map<Mat3<Q>>(y.data()) = y0.R;
+  y.template segment<3>(9) = y0.m;
+  y.template tail<N>() = y0.h;
+  y = test::quad::gbs_extrapolate<Q>(f, y, gyrostat_t_end, macro_steps, k);
+  GyrostatState<Q> r;
+  r.R = Eigen::Map<const Mat3<Q>>(y.data());
+  r.m = y.template segment<3>(9);
+  r.h = y.template tail<N>();
+  return r;
+}
+
+double gyrostat_distance(const GyrostatState<Q>& a, const GyrostatState<Q>& b) {
+  return static_cast<double>(so3::log(Mat3<Q>(a.R.transpose() * b.R)).norm() + (a.m - b.m).norm() + (a.h - b.h).norm());
+}
+
+struct GyrostatReference {
+  GyrostatState<Q> y;
+  double error;
+};
+const GyrostatReference& gyrostat_reference() {
+  static const GyrostatReference r = [] {
+    const GyrostatState<Q> a = gyrostat_gbs(20, 12), b = gyrostat_gbs(40, 10);
+    std::printf("gyrostat reference over T = %g: GBS (M = 20, k = 12) against (M = 40, k = 10): %.2e\n", gyrostat_t_end,
+                gyrostat_distance(a, b));
+    return GyrostatReference{a, gyrostat_distance(a, b)};
+  }();
+  return r;
+}
+
+template <class S>
+GyrostatState<Q> gyrostat_run(long n, std::vector<Q>* power = nullptr) {
+  const GQ g = test::three_rotor_gyrostat().cast<Q>();
+  S stepper(g);
+  const GyrostatDynamics<Q> dyn(g);
+  GyrostatState<Q> y = stepper.to_internal(gyrostat_start(), Q(0));
+  const Q h = Q(gyrostat_t_end) / Q(n);
+  if (power) power->assign(1, test::gyrostat_power(dyn, Q(0), y));
+  for (long k = 0; k < n; ++k) {
+    EXPECT_EQ(stepper.step(y, Q(k) * h, h), StepStatus::ok);
+    if (power) power->push_back(test::gyrostat_power(dyn, Q(k + 1) * h, y));
+  }
+  return y;
+}
+
+// Verner 9(8) RKMK (exp chart) on the gyrostat in binary128: the window of the skew top, errors 1e-20 … 1e-28.
+TEST(QuadOrder, Vern9OnTheThreeRotorGyrostat) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const GyrostatReference& ref = gyrostat_reference();
+  EXPECT_LT(ref.error, 1e-31);
+  Fit fit;
+  long last = 0;
+  for (double n_real = 8; n_real < 1e4 && fit.h.size() < 12; n_real *= 1.25) {
+    const long n = std::lround(n_real);
+    if (n == last) continue;
+    last = n;
+    const double e = gyrostat_distance(gyrostat_run<GyrostatVern9Q>(n), ref.y);
+    if (e > 1e-20) continue;
+    fit.n.push_back(static_cast<int>(n));
+    fit.h.push_back(gyrostat_t_end / static_cast<double>(n));
+    fit.error.push_back(e);
+    EXPECT_GT(e, 100 * ref.error) << "n = " << n;
+    if (e < 1e-28) break;
+  }
+  ASSERT_GE(fit.h.size(), 6u);
+  fit.order = test::fitted_order(fit.h, fit.error);
+  test::quad::print(fit, 9, "rkmk_vern9 gyrostat (binary128)");
+  std::printf("rkmk_vern9 gyrostat (binary128): observed order %.3f over errors %.2e ... %.2e (%.2f s)\n", fit.order,
+              fit.error.front(), fit.error.back(), seconds_since(t0));
+  EXPECT_NEAR(fit.order, 9.0, 0.2);
+}
+
+// ---- the energy balance of orders 8 and 9 ------------------------------------------------------------------------
+
+// E(T) − E(0) − W, W the integral of the power of the non-conservative torques along the discrete trajectory: the
+// steps' values lie on a smooth curve (the flow of the method's modified equation), so a quadrature of order q on them
+// leaves a defect O(h^p) + O(h^q). The 9-point Newton–Cotes rule (q = 10) of tests/integrators/test_state_torque.cpp is
+// not enough here (its h¹⁰ term outweighs the methods' own defect down to 1e-22: identical defects for Verner 9(8) and
+// DOP853, slope 10.0), so W is Gregory's rule — the trapezoidal sum with end corrections from the differences at both
+// ends (Hildebrand, Introduction to Numerical Analysis, 2nd ed., §5.9):
+//   ∫ f = h [½ f_0 + f_1 + … + ½ f_n] − h Σ_{k=1}^{m} |G_{k+1}| (∇^k f_n + (−1)^k Δ^k f_0),  error O(h^(m+2)),
+// G_j = ∫_0^1 binom(x, j) dx the Gregory coefficients (1/12, 1/24, 19/720, 3/160, … in magnitude), computed exactly in
+// rationals (Boost's cpp_rational) and rounded once to binary128; m = 18: q = 20. It has interior weights 1 (no
+// cancellation) and needs no step count beyond n ≥ m. Its error is estimated by its last term (the difference from
+// the rule with m = 17, an upper estimate for m = 18): a point enters a fit only where that is below 1 % of the defect,
+// so that the fitted slope is the method's, not the quadrature's.
+constexpr int gregory_terms = 18;
+const std::vector<Q>& gregory_coefficients() {  // |G_{k+1}|, k = 0 … m
+  static const std::vector<Q> g = [] {
+    using boost::multiprecision::cpp_rational;
+    std::vector<Q> out;
+    std::vector<cpp_rational> p{cpp_rational(1)};  // the coefficients of x(x − 1)…(x − j + 1)/j!, by powers of x
+    for (int j = 1; j <= gregory_terms + 1; ++j) {
+      std::vector<cpp_rational> next(p.size() + 1, cpp_rational(0));
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        next[i + 1] += p[i] / j;
+        next[i] -= p[i] * (j - 1) / j;
+      }
+      p = next;
+      cpp_rational integral = 0;
+      for (std::size_t i = 0; i < p.size(); ++i) integral += p[i] / static_cast<int>(i + 1);
+      if (integral < 0) integral = -integral;
+      out.push_back(Q(numerator(integral)) / Q(denominator(integral)));
+    }
+    return out;
+  }();
+  return g;
+}
+Q gregory(const std::vector<Q>& f, const Q& h, std::size_t m = gregory_terms) {
+  const std::size_t n = f.size() - 1;
+  EXPECT_GE(n, m);
+  Q sum = (f.front() + f.back()) / Q(2);
+  for (std::size_t k = 1; k < n; ++k) sum += f[k];
+  std::vector<Q> forward(f.begin(), f.begin() + static_cast<std::ptrdiff_t>(m + 1)),
+      backward(f.end() - static_cast<std::ptrdiff_t>(m + 1), f.end());  // Δ^k f_0 = forward[0], ∇^k f_n = backward[m]
+  for (std::size_t k = 1; k <= m; ++k) {
+    for (std::size_t i = 0; i + k <= m; ++i) forward[i] = forward[i + 1] - forward[i];
+    for (std::size_t i = m; i >= k; --i) backward[i] = backward[i] - backward[i - 1];
+    const Q correction = backward[m] + (k % 2 == 0 ? forward[0] : Q(-forward[0]));
+    sum -= gregory_coefficients()[k] * correction;
+  }
+  return sum * h;
+}
+
+struct BalanceFit {
+  std::vector<double> h, defect;
+  double order = 0;
+};
+struct Balance {
+  double defect;      // |E(T) − E(0) − W|, W by Gregory's rule with m = 18
+  double quadrature;  // |W(m = 18) − W(m = 17)|
+};
+Balance balance(const Q& E_end, const Q& E0, const std::vector<Q>& power, const Q& h) {
+  const Q W = gregory(power, h);
+  return {static_cast<double>(abs(E_end - E0 - W)), static_cast<double>(abs(W - gregory(power, h, gregory_terms - 1)))};
+}
+template <class Defect>
+BalanceFit balance_order(const char* what, double t_end, const std::vector<long>& ns, double e_start, double e_stop,
+                         Defect defect_after) {
+  BalanceFit fit;
+  for (const long n : ns) {
+    const Balance b = defect_after(n);
+    const double d = b.defect;
+    std::printf("  %-34s n = %5ld  defect %.3e  (quadrature %.1e)", what, n, d, b.quadrature);
+    if (!fit.h.empty()) std::printf("  local slope %.3f", std::log(d / fit.defect.back()) / std::log((t_end / n) / fit.h.back()));
+    std::printf("\n");
+    if (d > e_start || d < e_stop || !(b.quadrature < 0.01 * d)) continue;
+    fit.h.push_back(t_end / static_cast<double>(n));
+    fit.defect.push_back(d);
+  }
+  if (fit.h.size() < 5) {
+    ADD_FAILURE() << what << ": " << fit.h.size() << " points in the window";
+    return fit;
+  }
+  fit.order = test::fitted_order(fit.h, fit.defect);
+  std::printf("%-36s energy balance: observed order %.3f over defects %.2e ... %.2e\n", what, fit.order,
+              fit.defect.front(), fit.defect.back());
+  return fit;
+}
+
+template <class S>
+Balance gyrostat_balance_defect(long n) {
+  std::vector<Q> power;
+  const GyrostatState<Q> y = gyrostat_run<S>(n, &power);
+  const GyrostatDynamics<Q> dyn(test::three_rotor_gyrostat().cast<Q>());
+  const State<Q> x0 = gyrostat_start();
+  const Q E0 = dyn.energy(dyn.state(x0.R, x0.Omega));
+  return balance(dyn.energy(y), E0, power, Q(gyrostat_t_end) / Q(n));
+}
+
+template <template <class> class Method>
+Balance driven_top_balance_defect(long n) {
+  const auto p = test::driven_damped_skew_top().cast<Q>();
+  using PQ = std::decay_t<decltype(p)>;
+  Method<PQ> stepper(p);
+  const Q t_end(2), h = t_end / Q(n);
+  State<Q> x = test::skew_initial_state().cast<Q>();
+  x.R = orthonormal(x.R);
+  const Q E0 = energy(p, x);
+  std::vector<Q> power;
+  const auto observe = [&](const Q& t, const State<Q>& y) { power.push_back(p.power(t, y.Omega)); };
+  EXPECT_EQ(integrate_every(stepper, x, Q(0), h, t_end, 1, observe).status, RunStatus::completed);
+  return balance(energy(p, x), E0, power, h);
+}
+
+// Verner 9(8) and DOP853 RKMK on the gyrostat (exp chart) and in Cayley coordinates on the driven damped top. Not here:
+// lgvi_kahan_li8, whose composition coefficients exist only as doubles — their sum differs from 1 by ≈ 1e-16, and in
+// binary128 its defect stays at 3.6e-15 (the power × T × that) from n = 128 on.
+TEST(QuadOrder, EnergyBalanceOfOrdersEightAndNine) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<long> ns{32, 40, 48, 64, 80, 96, 128, 160, 192, 256, 320, 384};
+  EXPECT_NEAR(balance_order("rkmk_vern9 gyrostat", gyrostat_t_end, ns, 1e-18, 1e-30, gyrostat_balance_defect<GyrostatVern9Q>).order,
+              9.0, 0.2);
+  EXPECT_NEAR(balance_order("rkmk_dp8 gyrostat", gyrostat_t_end, ns, 1e-16, 1e-30, gyrostat_balance_defect<GyrostatDop853Q>).order,
+              8.0, 0.2);
+  EXPECT_NEAR(balance_order("rkmk_vern9_cayley driven damped top", 2.0, ns, 1e-18, 1e-30,
+                            driven_top_balance_defect<Vern9CayleyQ>).order,
+              9.0, 0.2);
+  EXPECT_NEAR(balance_order("rkmk_dp8_cayley driven damped top", 2.0, ns, 1e-16, 1e-30,
+                            driven_top_balance_defect<Dop853CayleyQ>).order,
+              8.0, 0.2);
+  std::printf("(%.2f s)\n", seconds_since(t0));
 }
 
 // ---- the control: double coefficients -----------------------------------------------------------------------

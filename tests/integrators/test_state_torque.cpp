@@ -286,13 +286,13 @@ TEST(StateTorqueOrder, Baselines) {
 }
 
 // E(T) − E(0) − W(T), W the work of the non-conservative torque along the discrete trajectory: the power Ω·M_nc at
-// the steps, integrated by the composite 9-point closed Newton–Cotes rule (weights 4h/14175 · (989, 5888, −928,
-// 10496, −4540, …), exact for polynomials of degree ≤ 9: error O(h¹⁰) on the smooth data a method's steps are). The
+// the steps, integrated by the composite 9-point closed Newton–Cotes rule (test::newton_cotes9, error O(h¹⁰) on the
+// smooth data a method's steps are). The
 // defect converges at the method's order where the
 // quadrature's error stays below the method's own: up to order 5 here. For orders 8 and 9 it does not on this grid
 // (at n = 16 … 48 both defects are the quadrature's, 5.4e-7 … 1.6e-13, slope 12.5, identical for DOP853 and Verner
 // 9(8)), and at the step counts where it would, their defect is below long double's round-off: measuring their
-// balance needs the work accumulated with the method's own stages, or binary128.
+// balance needs binary128 (tests/integrators/test_quad_order.cpp measures it there).
 template <template <class> class M, class S>
 double energy_balance_defect(int n) {
   const auto p = driven_damped_skew_top().template cast<S>();
@@ -306,12 +306,7 @@ double energy_balance_defect(int n) {
   const auto observe = [&](const S& t, const State<S>& y) { power.push_back(p.power(t, y.Omega)); };
   EXPECT_EQ(integrate_every(stepper, x, S(0), h, T, 1, observe).status, RunStatus::completed);
   EXPECT_EQ(static_cast<int>(power.size()), n + 1);
-  EXPECT_EQ(n % 8, 0);
-  static constexpr double w[9] = {989, 5888, -928, 10496, -4540, 10496, -928, 5888, 989};
-  S work = S(0);
-  for (int panel = 0; panel + 8 <= n; panel += 8)
-    for (int k = 0; k <= 8; ++k) work += S(w[k]) * power[static_cast<std::size_t>(panel + k)];
-  work *= S(4) * h / S(14175);
+  const S work = test::newton_cotes9(power, h);
   using std::abs;
   return static_cast<double>(abs(energy(p, x) - E0 - work));
 }
