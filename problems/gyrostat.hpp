@@ -14,7 +14,8 @@
 ///   m'  = R M(t, R, Ω)                     M: the external torque terms, body frame (problems/torqued_body.hpp);
 ///                                          in the body frame H' = H × Ω + M
 ///   h_i' = g_i                             g_i: the torque the body's motor applies to rotor i:
-///   g_i = g0_i − c_i ω_s,i + (A⁺ u)_i        a commanded constant, friction (c_i ≥ 0), and the wheels' share of the
+///   g_i = g0_i + g_tab,i(t) − c_i ω_s,i      a commanded constant, a commanded profile (problems/torque_table.hpp),
+///         + (A⁺ u)_i                         friction (c_i ≥ 0), and the wheels' share of the
 ///                                            PD law u = k_R e_R + k_Ω e_Ω (A⁺ = Aᵀ(AAᵀ)⁻¹: the least-norm wheel torques
 ///                                            whose reaction on the body, −A g, is −u)
 /// ~~~
@@ -36,9 +37,16 @@
 
 #include "torqued_body.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace lgi {
 
@@ -68,12 +76,31 @@ struct Gyrostat {
   Vec3<T> target_omega = Vec3<T>::Zero();  ///< Ω_d of the wheel PD law (body frame of the target)
   T k_R = T(0);                         ///< the wheel PD law's proportional gain
   T k_Omega = T(0);                     ///< the wheel PD law's derivative gain
+  /// g_tab(t), the rotors' commanded motor torques as a table (component i for rotor i, 0 beyond rotor_count); null:
+  /// none.
+  std::shared_ptr<const SampleTable<max_rotors>> motor_table;
 
   /// J_b = J − Σ I_s,i a_i a_iᵀ.
   Mat3<T> body_inertia() const {
     Mat3<T> Jb = body.inertia;
     for (int i = 0; i < rotor_count; ++i) Jb -= rotors[i].inertia * rotors[i].axis * rotors[i].axis.transpose();
     return Jb;
+  }
+
+  /// The last time the torques are defined at: the earlier of the body's torque table's and the motor table's last
+  /// samples, +∞ without tables (the scene loader refuses a t_end beyond it).
+  double time_limit() const {
+    return std::min(body.time_limit(), motor_table ? motor_table->t_last() : std::numeric_limits<double>::infinity());
+  }
+  /// The files the tables were read from, with hashes of their bytes (checkpoints record them); the one that ends
+  /// first (time_limit's) first.
+  std::vector<std::pair<std::string, std::uint64_t>> input_files() const {
+    std::vector<std::pair<std::string, std::uint64_t>> files = body.input_files();
+    if (motor_table && !motor_table->source().empty()) {
+      const bool first = motor_table->t_last() < body.time_limit();
+      files.emplace(first ? files.begin() : files.end(), motor_table->source(), motor_table->digest());
+    }
+    return files;
   }
 
   /// The same gyrostat in scalar S (double → ceres::Jet).
@@ -94,6 +121,7 @@ struct Gyrostat {
     c.target_omega = target_omega.template cast<S>();
     c.k_R = S(k_R);
     c.k_Omega = S(k_Omega);
+    c.motor_table = motor_table;
     return c;
   }
 };
@@ -179,6 +207,7 @@ class GyrostatDynamics {
     if (has_external()) f.template head<3>() = R * g_.body.torque(t, R, Omega);
     else f.template head<3>().setZero();
     VecN g = g0_ - c_.cwiseProduct(rotor_rates(h, Omega));
+    if (g_.motor_table) g += (*g_.motor_table)(t);
     if (g_.wheel_control) {
       const Vec3<T> u = g_.k_R * lgi::attitude_error(g_.target, R) + g_.k_Omega * (Omega - R.transpose() * (g_.target * g_.target_omega));
       g += pinv_ * u;

@@ -1,6 +1,8 @@
 /// \file
 /// lgi/problems/torque_table.hpp — a torque given as a table of samples M(t_i), interpolated in time: the replay of a
-/// measured or precomputed disturbance (problems/torqued_body.hpp, the scene's "table" torque term).
+/// measured or precomputed disturbance (problems/torqued_body.hpp, the scene's "table" torque term), or of the motor
+/// torques commanded to a gyrostat's rotors (problems/gyrostat.hpp, the scene's "motor_table"). SampleTable<D> holds
+/// samples in R^D; TorqueTable = SampleTable<3>.
 ///
 /// Samples (t_i, M_i), i = 0 … n−1, n ≥ 2, t_i strictly increasing; on [t_i, t_{i+1}] with u = t − t_i, h_i = t_{i+1} − t_i:
 ///
@@ -35,20 +37,27 @@
 
 namespace lgi {
 
-/// A body- or laboratory-frame torque table (this header). Immutable after construction; shared by the copies of a
+/// How a table's samples are joined (this header's formulas).
+enum class TableInterpolation {
+  linear,  ///< straight lines, C⁰
+  cubic,   ///< the natural cubic spline, C²
+};
+
+/// A table of samples in R^D interpolated in time (this header): a body- or laboratory-frame torque (D = 3), a
+/// gyrostat's rotor motor torques (D = its rotor slots). Immutable after construction; shared by the copies of a
 /// problem (its cast to Jets included: the samples are data, not parameters).
-class TorqueTable {
+template <int D>
+class SampleTable {
  public:
-  /// How the samples are joined (this header's formulas).
-  enum class Interpolation {
-    linear,  ///< straight lines, C⁰
-    cubic,   ///< the natural cubic spline, C²
-  };
+  using Interpolation = TableInterpolation;        ///< how the samples are joined
+  using Sample = Eigen::Matrix<double, D, 1>;      ///< one sample M_i
+  template <class T>
+  using Value = Eigen::Matrix<T, D, 1>;            ///< M(t) in scalar T
 
   /// The samples; std::invalid_argument unless there are ≥ 2, of equal count, finite, with t strictly increasing.
   /// `source` names where they came from (the file's path, for messages and checkpoints); `digest`
   /// is a hash of the bytes they were read from (checkpoints compare it), 0 if none.
-  TorqueTable(std::vector<double> t, std::vector<Vec3<double>> M, Interpolation interpolation, std::string source = {},
+  SampleTable(std::vector<double> t, std::vector<Sample> M, Interpolation interpolation, std::string source = {},
               std::uint64_t digest = 0)
       : t_(std::move(t)), M_(std::move(M)), source_(std::move(source)), digest_(digest) {
     if (t_.size() < 2 || t_.size() != M_.size())
@@ -60,28 +69,28 @@ class TorqueTable {
         throw std::invalid_argument("lgi::TorqueTable: times must increase strictly (sample " + std::to_string(i) + ")");
     }
     // Each interval's polynomial M_i + u (c1 + u (c2 + u c3)), once: linear c1 = slope, c2 = c3 = 0.
-    std::vector<Vec3<double>> m(t_.size(), Vec3<double>::Zero());
+    std::vector<Sample> m(t_.size(), Sample::Zero());
     if (interpolation == Interpolation::cubic && t_.size() > 2) m = spline_second_derivatives();
     for (std::size_t i = 0; i + 1 < t_.size(); ++i) {
       const double h = t_[i + 1] - t_[i];
-      const Vec3<double> slope = (M_[i + 1] - M_[i]) / h;
+      const Sample slope = (M_[i + 1] - M_[i]) / h;
       if (interpolation == Interpolation::linear)
-        c_.push_back({slope, Vec3<double>::Zero(), Vec3<double>::Zero()});
+        c_.push_back({slope, Sample::Zero(), Sample::Zero()});
       else
         c_.push_back({slope - h * (2 * m[i] + m[i + 1]) / 6, m[i] / 2, (m[i + 1] - m[i]) / (6 * h)});
     }
   }
 
-  /// M(t), body or laboratory frame as the table's user says (this header's formulas). No allocation; the interval
-  /// by binary search on value_of(t).
+  /// M(t), in the frame the table's user says (this header's formulas). No allocation; the interval by binary
+  /// search on value_of(t).
   template <class T>
-  Vec3<T> operator()(const T& t) const {
+  Value<T> operator()(const T& t) const {
     const double tv = static_cast<double>(value_of(t));
     const std::size_t n = t_.size();
     std::size_t i = static_cast<std::size_t>(std::upper_bound(t_.begin(), t_.end(), tv) - t_.begin());
     i = std::clamp<std::size_t>(i == 0 ? 0 : i - 1, 0, n - 2);
     const T u = t - T(t_[i]);
-    const std::array<Vec3<double>, 3>& c = c_[i];
+    const std::array<Sample, 3>& c = c_[i];
     return M_[i].template cast<T>() +
            u * (c[0].template cast<T>() + u * (c[1].template cast<T>() + u * c[2].template cast<T>()));
   }
@@ -92,11 +101,11 @@ class TorqueTable {
 
  private:
   // The natural spline's m_0 … m_{n−1} (m_0 = m_{n−1} = 0), Thomas algorithm on the diagonally dominant system.
-  std::vector<Vec3<double>> spline_second_derivatives() const {
+  std::vector<Sample> spline_second_derivatives() const {
     const std::size_t n = t_.size();
-    std::vector<Vec3<double>> m(n, Vec3<double>::Zero());
+    std::vector<Sample> m(n, Sample::Zero());
     std::vector<double> diag(n, 1.0), upper(n, 0.0);
-    std::vector<Vec3<double>> rhs(n, Vec3<double>::Zero());
+    std::vector<Sample> rhs(n, Sample::Zero());
     for (std::size_t i = 1; i + 1 < n; ++i) {
       const double h0 = t_[i] - t_[i - 1], h1 = t_[i + 1] - t_[i];
       const double lower = (i == 1) ? 0.0 : h0;  // m_0 = 0 drops out of the first row
@@ -114,10 +123,13 @@ class TorqueTable {
   }
 
   std::vector<double> t_;
-  std::vector<Vec3<double>> M_;
-  std::vector<std::array<Vec3<double>, 3>> c_;  ///< interval i's c1, c2, c3 (the constructor)
+  std::vector<Sample> M_;
+  std::vector<std::array<Sample, 3>> c_;  ///< interval i's c1, c2, c3 (the constructor)
   std::string source_;
   std::uint64_t digest_ = 0;
 };
+
+/// A body- or laboratory-frame torque table M(t) ∈ R³.
+using TorqueTable = SampleTable<3>;
 
 }  // namespace lgi

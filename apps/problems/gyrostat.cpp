@@ -133,8 +133,8 @@ class GyrostatModel final : public ProblemModel {
     d.z0 = g_.body.z0;
     return d;
   }
-  double time_limit() const override { return g_.body.time_limit(); }
-  std::vector<std::pair<std::string, std::uint64_t>> input_files() const override { return g_.body.input_files(); }
+  double time_limit() const override { return g_.time_limit(); }
+  std::vector<std::pair<std::string, std::uint64_t>> input_files() const override { return g_.input_files(); }
   std::unique_ptr<runner_detail::ProblemRunner> runner() const override { return std::make_unique<GyrostatRunner>(g_); }
   void state_columns(double, const State<double>&, std::vector<double>&) const override {
     throw std::logic_error("lgi: state_columns of a gyrostat (its rotors are not in (R, Omega))");
@@ -196,11 +196,22 @@ void read_wheel_control(const Node& w, G& g) {
   g.wheel_control = true;
 }
 
+// "motor_table": {"file": CSV, "interpolation": "linear" | "cubic"}: columns t, g1 … gN (N the rotor count), each
+// rotor's commanded motor torque, added to its motor_torque.
+void read_motor_table(const Node& m, G& g) {
+  if (!m.is_object()) m.fail("expected {\"file\": CSV, \"interpolation\": ...}, got " + describe(m.value()));
+  m.allow_only({"file", "interpolation"}, "motor_table");
+  std::vector<std::string> names{"t"};
+  for (int i = 0; i < g.rotor_count; ++i) names.push_back(std::string(1, 'g').append(std::to_string(i + 1)));
+  g.motor_table = read_sample_table<G::max_rotors>(m, names, "motor table");
+}
+
 std::shared_ptr<const ProblemModel> parse(const Node& p) {
   G g;
   g.body = read_torqued_body(p);
   read_rotors(p.at("rotors"), g);
   if (auto w = p.find("wheel_control")) read_wheel_control(*w, g);
+  if (auto m = p.find("motor_table")) read_motor_table(*m, g);
   return std::make_shared<GyrostatModel>(g);
 }
 
@@ -211,7 +222,7 @@ const ProblemInfo& problem_info_gyrostat() {
       G::name,
       "rigid body with 1-6 rotors (reaction or momentum wheels, dampers): friction, motor torques, PD control through "
       "the wheels, and rigid_body's gravity and torque terms",
-      {"type", "inertia", "gravity", "torques", "rotors", "wheel_control"},
+      {"type", "inertia", "gravity", "torques", "rotors", "wheel_control", "motor_table"},
       parse,
       gyrostat_methods(),
       false};

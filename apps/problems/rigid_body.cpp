@@ -58,21 +58,25 @@ Mat3<double> read_target(const Node& t) {
   return read_axis_angle(*a);
 }
 
-// {"type": "table", "file": CSV, "frame": "body" | "lab", "interpolation": "linear" (default) | "cubic"}: the CSV
-// (relative to the scene's directory) has the columns t, M1, M2, M3 in any order, at least 2 rows, t strictly
-// increasing from at most 0 (the run's start).
-std::shared_ptr<const TorqueTable> read_table(const Node& term) {
+}  // namespace
+
+// {"file": CSV, "interpolation": "linear" (default) | "cubic"} (and the caller's keys): the CSV (relative to the
+// scene's directory) has the columns `names` (t first) in any order, at least 2 rows, t strictly increasing from at
+// most 0 (the run's start); sample component k is column names[k + 1], the rest 0.
+template <int D>
+std::shared_ptr<const SampleTable<D>> read_sample_table(const Node& term, const std::vector<std::string>& names,
+                                                        const std::string& what) {
   const Node file = term.at("file");
   std::filesystem::path path = file.string();
   if (path.is_relative()) path = std::filesystem::path(term.directory()) / path;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    file.fail("cannot read the torque table " + path.string() + (ec ? ": " + ec.message() : ": not a regular file"));
-  TorqueTable::Interpolation interpolation = TorqueTable::Interpolation::linear;
+    file.fail("cannot read the " + what + " " + path.string() + (ec ? ": " + ec.message() : ": not a regular file"));
+  TableInterpolation interpolation = TableInterpolation::linear;
   if (const auto i = term.find("interpolation")) {
     const std::string name = i->string();
     if (name == "cubic")
-      interpolation = TorqueTable::Interpolation::cubic;
+      interpolation = TableInterpolation::cubic;
     else if (name != "linear")
       i->fail("unknown interpolation " + quoted_input(name) + did_you_mean(name, {"linear", "cubic"}) +
               " (known: linear, cubic)");
@@ -82,39 +86,47 @@ std::shared_ptr<const TorqueTable> read_table(const Node& term) {
   std::vector<std::vector<double>> rows;
   std::vector<int> lines;
   std::uint64_t digest = 0;
-  read_csv(csv, header, rows, lines, "torque table", &digest);
-  static constexpr std::string_view names[4] = {"t", "M1", "M2", "M3"};
-  std::string have;
+  read_csv(csv, header, rows, lines, what, &digest);
+  std::string have, want;
   for (const std::string& h : header) have += (have.empty() ? "" : ", ") + h;
+  for (const std::string& n : names) want += (want.empty() ? "" : ", ") + n;
   for (const std::string& h : header)
-    if (std::find(std::begin(names), std::end(names), h) == std::end(names))
-      throw CsvError(csv + ": unknown column " + quoted_input(h) + " in the header (a torque table has the columns t, "
-                     "M1, M2, M3)");
-  std::size_t column[4];
-  for (int i = 0; i < 4; ++i) {
+    if (std::find(names.begin(), names.end(), h) == names.end())
+      throw CsvError(csv + ": unknown column " + quoted_input(h) + " in the header (a " + what + " has the columns " +
+                     want + ")");
+  std::vector<std::size_t> column(names.size());
+  for (std::size_t i = 0; i < names.size(); ++i) {
     column[i] = static_cast<std::size_t>(std::find(header.begin(), header.end(), names[i]) - header.begin());
     if (column[i] == header.size())
-      throw CsvError(csv + ": missing column " + std::string(names[i]) + " (the header has " + have +
-                     "; a torque table has t, M1, M2, M3)");
+      throw CsvError(csv + ": missing column " + names[i] + " (the header has " + have + "; a " + what + " has " + want +
+                     ")");
   }
   if (rows.size() < 2)
-    throw CsvError(csv + ": a torque table needs at least 2 rows to interpolate, it has " + std::to_string(rows.size()));
+    throw CsvError(csv + ": a " + what + " needs at least 2 rows to interpolate, it has " + std::to_string(rows.size()));
   if (const double t0 = rows[0][column[0]]; t0 > 0)
     throw CsvError(csv + ":" + std::to_string(lines[0]) + ": the table starts at t = " + format_number(t0) +
                    ", after the run's start t = 0 (the torque would be undefined there)");
   std::vector<double> t;
-  std::vector<Vec3<double>> M;
+  std::vector<typename SampleTable<D>::Sample> M;
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const double tr = rows[r][column[0]];
     if (r > 0 && !(tr > t.back()))
       throw CsvError(csv + ":" + std::to_string(lines[r]) + ": t = " + format_number(tr) +
-                     " does not come after the previous row's t = " + format_number(t.back()) +
-                     " (a torque table's times increase strictly)");
+                     " does not come after the previous row's t = " + format_number(t.back()) + " (a " + what +
+                     "'s times increase strictly)");
     t.push_back(tr);
-    M.emplace_back(rows[r][column[1]], rows[r][column[2]], rows[r][column[3]]);
+    typename SampleTable<D>::Sample sample = SampleTable<D>::Sample::Zero();
+    for (std::size_t k = 1; k < names.size(); ++k) sample(static_cast<Eigen::Index>(k - 1)) = rows[r][column[k]];
+    M.push_back(sample);
   }
-  return std::make_shared<const TorqueTable>(std::move(t), std::move(M), interpolation, csv, digest);
+  return std::make_shared<const SampleTable<D>>(std::move(t), std::move(M), interpolation, csv, digest);
 }
+template std::shared_ptr<const SampleTable<3>> read_sample_table<3>(const Node&, const std::vector<std::string>&,
+                                                                    const std::string&);
+template std::shared_ptr<const SampleTable<6>> read_sample_table<6>(const Node&, const std::vector<std::string>&,
+                                                                    const std::string&);
+
+namespace {
 
 void read_term(const Node& term, TorquedBody<double>& body, bool& has_controller) {
   if (!term.is_object()) term.fail("expected a torque term {\"type\": ...}, got " + describe(term.value()));
@@ -139,7 +151,7 @@ void read_term(const Node& term, TorquedBody<double>& body, bool& has_controller
     if (frame != "body" && frame != "lab")
       term.at("frame").fail("unknown frame " + quoted_input(frame) + did_you_mean(frame, {"body", "lab"}) +
                             " (known: body, lab)");
-    body.table = read_table(term);
+    body.table = read_sample_table<3>(term, {"t", "M1", "M2", "M3"}, "torque table");
     body.table_in_lab = frame == "lab";
   } else if (type == "damping") {
     term.allow_only({"type", "coefficient", "matrix"}, "damping");

@@ -684,6 +684,35 @@ TEST_F(MalformedScenes, TorqueTablesGiveTheirFileAndLine) {
   expect_rejected("table_file_missing", scene_with("absent.csv"),
                   "lgi: error: {file}: /problem/torques/0/file: cannot read the torque table " + missing.string() +
                       ": No such file or directory");
+
+  // A gyrostat's motor table: the same reader, the columns t, g1 … gN; the one that ends first bounds t_end.
+  const auto gyrostat_with = [](const std::string& csv, const std::string& extra = "") {
+    return edit(gyrostat, "\"wheel_control\"", R"("motor_table": {"file": ")" + csv + "\"" + extra + "}, \"wheel_control\"");
+  };
+  write("motors.csv", "t,g1,g2,g3\n0,0.1,0,0\n0.1,0,0.2,0\n");
+  const Result motors = run(write("motors.json", gyrostat_with("motors.csv", R"(, "interpolation": "cubic")")),
+                            dir_ / "motors_run.csv");
+  EXPECT_EQ(motors.status, 0) << motors.err;
+  fs::remove(dir_ / "motors_run.csv");
+  const std::vector<TableCase> motor_cases = {
+      {"motor_table_missing_column", "t,g1,g3\n0,0,0\n0.1,0,0\n", "",
+       "lgi: error: {csv}: missing column g2 (the header has t, g1, g3; a motor table has t, g1, g2, g3)"},
+      {"motor_table_unsorted", "t,g1,g2,g3\n0,0,0,0\n0.1,0,0,0\n0.05,0,0,0\n", "",
+       "lgi: error: {csv}:4: t = 0.05 does not come after the previous row's t = 0.1 (a motor table's times increase "
+       "strictly)"},
+      {"motor_table_ends_early", "t,g1,g2,g3\n0,0,0,0\n0.08,0,0,0\n", "",
+       "lgi: error: {file}: /t_end: t_end = 0.1 is beyond the last row of the torque table {csv} (t = 0.08): the "
+       "torque is not known there"},
+      {"motor_table_key_unknown", "t,g1,g2,g3\n0,0,0,0\n0.1,0,0,0\n", R"(, "frame": "body")",
+       "lgi: error: {file}: /problem/motor_table/frame: unknown key for motor_table (allowed: file, interpolation)"},
+  };
+  for (const TableCase& c : motor_cases) {
+    const fs::path csv = write(c.name + "_table.csv", c.csv);
+    std::string golden = c.golden;
+    for (auto at = golden.find("{csv}"); at != std::string::npos; at = golden.find("{csv}"))
+      golden.replace(at, 5, csv.string());
+    expect_rejected(c.name, gyrostat_with(c.name + "_table.csv", c.extra), golden);
+  }
 }
 
 TEST_F(MalformedScenes, EachGivesItsGoldenMessageAndStatusAndNoOutput) {

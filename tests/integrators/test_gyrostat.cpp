@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <memory>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -189,6 +190,41 @@ TEST(GyrostatEnergy, BalanceWithTheWorkOfTheTorquesConvergesAtTheMethodsOrder) {
   EXPECT_NEAR((energy_balance_order<GyrostatRkmk<tableaus::dormand_prince5, GL>>("rkmk_dp5 (long double)",
                                                                                 {32, 64, 128, 256})),
               5, 0.2);
+}
+
+// A commanded motor profile (Gyrostat::motor_table, linear, its knots on the steps) with nothing else acting: each
+// rotor's absolute momentum gains ∫ g_i dt exactly — the LGVI's kicks apply ½τ g at both ends of a step and RKMK4's
+// Simpson weights are exact on each linear piece — while R H stays put (the motors' torques are internal).
+TEST(Gyrostat, MotorTableDeliversItsImpulse) {
+  Gyrostat<double> g;
+  g.body.inertia << 3.0, 0.1, 0.05, 0.1, 2.0, 0.02, 0.05, 0.02, 1.5;
+  g.rotor_count = 2;
+  g.rotors[0] = {Vec3<double>::UnitX(), 0.05, 0.0, 0.0, 5.0};
+  g.rotors[1] = {Vec3<double>(0, 1, 1).normalized(), 0.08, 0.0, 0.01, 0.0};
+  using Table = SampleTable<Gyrostat<double>::max_rotors>;
+  std::vector<Table::Sample> samples(4, Table::Sample::Zero());
+  samples[0].head<2>() << 0.0, 0.2;
+  samples[1].head<2>() << 0.3, -0.1;
+  samples[2].head<2>() << -0.2, 0.4;
+  samples[3].head<2>() << 0.1, 0.0;
+  const std::vector<double> knots{0.0, 0.5, 1.25, 2.0};
+  g.motor_table = std::make_shared<const Table>(knots, samples, TableInterpolation::linear);
+  Vec3<double> impulse = Vec3<double>::Zero();  // ∫ g dt over [0, 2] (trapezoids on the knots), plus the constant
+  for (int k = 0; k < 3; ++k)
+    impulse.head<2>() += (knots[k + 1] - knots[k]) / 2 * (samples[k] + samples[k + 1]).head<2>();
+  impulse(1) += 0.01 * 2.0;
+  const auto check = [&]<class S>(const char* name) {
+    S m(g);
+    const Y<double> y0 = m.to_internal(initial_state(), 0.0);
+    Y<double> y = run(m, y0, 2.0, 80);  // h = 0.025: 0.5 and 1.25 are steps' ends
+    const double gained = (y.h.head<2>() - y0.h.head<2>() - impulse.head<2>()).norm() / impulse.head<2>().norm();
+    const double moved = (y.m - y0.m).norm() / y0.m.norm();
+    std::printf("%s: rotor momenta gained the table's impulse to %.1e (relative), R H moved %.1e\n", name, gained, moved);
+    EXPECT_LT(gained, 1e-13) << name;
+    EXPECT_LT(moved, 1e-14) << name;
+  };
+  check.template operator()<GyrostatLgvi<Gyrostat<double>>>("lgvi");
+  check.template operator()<GyrostatRkmk<tableaus::classical_rk4, Gyrostat<double>>>("rkmk4");
 }
 
 // step(τ) then step(−τ) from t + τ returns to the start: the kicks are each other's adjoints, the rest symmetric.
