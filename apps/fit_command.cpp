@@ -217,7 +217,7 @@ fit::FitResult<P> solve(const P& problem, const FitSpec& spec) {
 
 // The (method, problem) pairs `lgi fit` offers: those of LGI_FIT_OBSERVATION_FITS and LGI_FIT_PERIODIC_FITS.
 constexpr std::string_view fit_methods = "lgvi, rkmk4";
-constexpr std::string_view fit_problems = "free_body, heavy_top, rigid_body (lgvi, observations)";
+constexpr std::string_view fit_problems = "free_body, heavy_top, rigid_body and gyrostat (lgvi, observations)";
 
 }  // namespace
 
@@ -304,6 +304,16 @@ int fit_command(const FitCommandOptions& options) {
                                            "(got \"" + method + "\"; the library lgi::fit takes any)");
       report_fit(fit::fit_observations<Lgvi, 8>(*torqued, spec.scene.initial, spec.unknowns, spec.observations,
                                                 spec.options));
+    } else if (const auto* gyrostat = problem_as<Gyrostat<double>>(*spec.scene.problem)) {
+      // As rigid_body: observations only, the gyrostat LGVI only.
+      if (spec.periodic)
+        return fail(exit_bad_input, file + ": /fit/periodic: lgi fit offers gyrostat with observations only (friction "
+                                           "and motors do work: no periodic orbits in general)");
+      if (method != "lgvi")
+        return fail(exit_bad_input, file + ": /integrator/method: lgi fit offers gyrostat with the method lgvi (got \"" +
+                                           method + "\"; the library lgi::fit takes any of the gyrostat's methods)");
+      report_fit(fit::fit_observations<GyrostatLgvi, 8>(*gyrostat, spec.scene.initial, spec.unknowns,
+                                                        spec.observations, spec.options));
     } else {
       offered = false;
     }

@@ -15,10 +15,12 @@
 #pragma once
 
 #include <lgi/fit/fit.hpp>
+#include <lgi/integrators/gyrostat.hpp>
 #include <lgi/integrators/lgvi.hpp>
 #include <lgi/integrators/rkmk.hpp>
 #include <lgi/integrators/splitting.hpp>
 #include <lgi/problems/free_body.hpp>
+#include <lgi/problems/gyrostat.hpp>
 #include <lgi/problems/heavy_top.hpp>
 #include <lgi/problems/torqued_body.hpp>
 
@@ -32,14 +34,16 @@
   X(2, Rkmk4, HeavyTop<double>, 8)    \
   X(2, SplitDmv, HeavyTop<double>, 8) \
   X(2, SplitAxes, HeavyTop<double>, 8) \
-  X(2, Lgvi, TorquedBody<double>, 8)
+  X(2, Lgvi, TorquedBody<double>, 8) \
+  X(1, GyrostatLgvi, Gyrostat<double>, 8)
 // fit_observations (`lgi fit`; test_fit_omega, _observations, _inertia):
 #define LGI_FIT_OBSERVATION_FITS(X) \
   X(1, Lgvi, HeavyTop<double>, 8)        \
   X(1, Lgvi, FreeBody<double>, 8)        \
   X(1, Rkmk4, FreeBody<double>, 8)       \
   X(2, Rkmk4, HeavyTop<double>, 8)       \
-  X(2, Lgvi, TorquedBody<double>, 8)
+  X(2, Lgvi, TorquedBody<double>, 8)     \
+  X(1, GyrostatLgvi, Gyrostat<double>, 8)
 // fit_periodic (`lgi fit`; test_fit_periodic):
 #define LGI_FIT_PERIODIC_FITS(X) \
   X(1, Lgvi, HeavyTop<double>, 8)     \

@@ -482,7 +482,7 @@ struct StrideMonitor {
 
 // The library's fixed-step drivers over drive_grid: observe(t, x) at t0 and at every event, x as given until a step
 // was taken (no J⁻¹(Jx) round trip), and x the last good state on return.
-template <Stepper S, class Observer, class Monitor>
+template <StateStepper S, class Observer, class Monitor>
 IntegrationSummary drive_library(S& stepper, State<typename S::Scalar>& x, const typename S::Scalar& t0,
                                  const typename S::Scalar& h, const GridEvents<typename S::Scalar>& events,
                                  Observer& observe, Monitor& monitor) {
@@ -514,7 +514,7 @@ IntegrationSummary drive_library(S& stepper, State<typename S::Scalar>& x, const
 
 /// Integrates from t0 with step h, calling observe(t, x) at t0 and at each of `times` (strictly
 /// increasing, ≥ t0). On return x is the state at times.back() (or the last good state, see summary).
-template <Stepper S, class Observer = NoObserver, class Monitor = NoMonitor>
+template <StateStepper S, class Observer = NoObserver, class Monitor = NoMonitor>
 IntegrationSummary integrate_times(S& stepper, State<typename S::Scalar>& x, const typename S::Scalar& t0,
                                    const typename S::Scalar& h, std::span<const typename S::Scalar> times,
                                    Observer&& observe = {}, Monitor&& monitor = {}) {
@@ -524,7 +524,7 @@ IntegrationSummary integrate_times(S& stepper, State<typename S::Scalar>& x, con
 }
 
 /// Integrates from t0 to t_end with step h, calling observe(t, x) at t0, every `every` steps, and at t_end.
-template <Stepper S, class Observer = NoObserver, class Monitor = NoMonitor>
+template <StateStepper S, class Observer = NoObserver, class Monitor = NoMonitor>
 IntegrationSummary integrate_every(S& stepper, State<typename S::Scalar>& x, const typename S::Scalar& t0,
                                    const typename S::Scalar& h, const typename S::Scalar& t_end,
                                    std::int64_t every, Observer&& observe = {}, Monitor&& monitor = {}) {
@@ -535,7 +535,7 @@ IntegrationSummary integrate_every(S& stepper, State<typename S::Scalar>& x, con
 }
 
 /// Integrates from t0 to t_end with step h and observes only the start and the end: O(1) memory.
-template <Stepper S, class Observer = NoObserver, class Monitor = NoMonitor>
+template <StateStepper S, class Observer = NoObserver, class Monitor = NoMonitor>
 IntegrationSummary integrate_to(S& stepper, State<typename S::Scalar>& x, const typename S::Scalar& t0,
                                 const typename S::Scalar& h, const typename S::Scalar& t_end,
                                 Observer&& observe = {}, Monitor&& monitor = {}) {

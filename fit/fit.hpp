@@ -164,7 +164,7 @@ inline ceres::Solver::Options solver_options(const SolverOptions& s) {
   return o;
 }
 
-template <template <class> class Method, RigidBodyProblem P, int N>
+template <template <class> class Method, FitProblem P, int N>
 FitResult<P> collect(Model<Method, P, N>& model, ceres::Problem& problem, const ceres::Solver::Summary& summary,
                      bool covariance, double seconds) {
   FitResult<P> res;
@@ -250,10 +250,13 @@ FitResult<P> collect(Model<Method, P, N>& model, ceres::Problem& problem, const 
       case Block::inertia:
         for (const double l : x) v.value.push_back(std::exp(l));
         break;
+      case Block::rotor_friction:  // the rotors present
+        v.value.assign(x.begin(), x.begin() + model.components(block));
+        break;
       default:
         v.value = x;
     }
-    for (int k = 0; k < info.tangent; ++k) {
+    for (int k = 0; k < model.components(block); ++k) {
       const int g = model.tangent_index(block, k);
       v.free.push_back(g >= 0);
       v.sigma.push_back(g >= 0 && res.covariance_ok ? std::sqrt(res.covariance(g, g)) : 0.0);
@@ -290,7 +293,7 @@ inline Clock::time_point deadline_after(double seconds) {
                      : Clock::time_point::max();
 }
 
-template <template <class> class Method, RigidBodyProblem P, int N>
+template <template <class> class Method, FitProblem P, int N>
 FitResult<P> solve(Model<Method, P, N>& model, const SolverOptions& solver, bool covariance, Clock::time_point deadline) {
   ceres::Problem::Options po;
   po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -321,7 +324,7 @@ FitResult<P> solve(Model<Method, P, N>& model, const SolverOptions& solver, bool
 
 namespace detail {
 
-template <template <class> class Method, int N, RigidBodyProblem P>
+template <template <class> class Method, int N, FitProblem P>
 FitResult<P> fit_observations_until(const P& problem, const State<double>& initial, std::span<const Unknown> unknowns,
                                     std::span<const Observation> observations, const FitOptions& options,
                                     Clock::time_point deadline);
@@ -335,7 +338,7 @@ FitResult<P> fit_observations_until(const P& problem, const State<double>& initi
 /// A fit that runs but does not succeed is not an exception: FitResult::usable is false and termination, message,
 /// p_value and budget_exhausted say why. Cost: one integration in double per new point of the solver, plus
 /// ⌈free coordinates / N⌉ Jet integrations where derivatives are needed.
-template <template <class> class Method, int N = 8, RigidBodyProblem P>
+template <template <class> class Method, int N = 8, FitProblem P>
 FitResult<P> fit_observations(const P& problem, const State<double>& initial, std::span<const Unknown> unknowns,
                               std::span<const Observation> observations, const FitOptions& options) {
   return detail::fit_observations_until<Method, N>(problem, initial, unknowns, observations, options,
@@ -344,7 +347,7 @@ FitResult<P> fit_observations(const P& problem, const State<double>& initial, st
 
 namespace detail {
 
-template <template <class> class Method, int N, RigidBodyProblem P>
+template <template <class> class Method, int N, FitProblem P>
 FitResult<P> fit_observations_until(const P& problem, const State<double>& initial, std::span<const Unknown> unknowns,
                                     std::span<const Observation> observations, const FitOptions& options,
                                     Clock::time_point deadline) {
@@ -422,7 +425,7 @@ FitResult<P> fit_observations_until(const P& problem, const State<double>& initi
 /// Throws FitInputError on bad input (a period ≤ 0 or not finite, steps < 1, an unknown that does not apply). The
 /// result is usable when its cost is finite, max |r| ≤ options.tolerance and the budget was not exhausted; no
 /// covariance is computed.
-template <template <class> class Method, int N = 8, RigidBodyProblem P>
+template <template <class> class Method, int N = 8, FitProblem P>
 FitResult<P> fit_periodic(const P& problem, const State<double>& initial, double period, std::span<const Unknown> unknowns,
                           const PeriodicOptions& options, double phase = 0) {
   ModelOptions mo;

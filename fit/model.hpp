@@ -18,7 +18,14 @@
 ///   problem.lab_torque   M_lab ∈ R³               a constant laboratory-frame torque, Euclidean
 ///   problem.k_R          k_R ≥ 0                  the attitude controller's gains (the scene's attitude_control)
 ///   problem.k_Omega      k_Ω ≥ 0
+///   problem.rotor_friction  c_i ≥ 0, one per rotor    a gyrostat's (problems/gyrostat.hpp) rotor friction
+///   problem.wheel_k_R       k_R ≥ 0                  a gyrostat's wheel PD law's gains (the scene's wheel_control)
+///   problem.wheel_k_Omega   k_Ω ≥ 0
 /// ~~~
+///
+/// Problems: every RigidBodyProblem, and the gyrostat (problems/gyrostat.hpp), whose body terms (inertia with the
+/// rotors locked, b, z0, damping, constant torques, attitude_control gains) are its `body`'s and whose initial state
+/// (R0, Ω0) takes the rotors at their scene rates; its steppers (integrators/gyrostat.hpp) map (R, Ω) to (R, m, h).
 ///
 /// Derivatives. Ceres asks for ∂r/∂x in the ambient coordinates x of each parameter block (9 for R0, 3 for z0)
 /// and multiplies them by the manifold's PlusJacobian P. Here the derivatives are carried by ceres::Jet in the
@@ -84,9 +91,14 @@ struct Unknown {
 };
 
 /// The parameter blocks of a fit, one per unknown of the header's table, in this order.
-enum class Block : int { omega = 0, R, inertia, b, z0, period, phase, damping, body_torque, lab_torque, k_R, k_Omega };
+enum class Block : int {
+  omega = 0, R, inertia, b, z0, period, phase, damping, body_torque, lab_torque, k_R, k_Omega,
+  rotor_friction, wheel_k_R, wheel_k_Omega
+};
 /// The number of Block values.
-inline constexpr int block_count = 12;
+inline constexpr int block_count = 15;
+/// The most components a block has in the tangent space (problem.rotor_friction: one per rotor slot).
+inline constexpr int max_block_components = 6;
 
 /// A parameter block's scene name and sizes.
 struct BlockInfo {
@@ -109,6 +121,9 @@ inline constexpr std::array<BlockInfo, block_count> block_info{{
     {"problem.lab_torque", 3, 3, true},
     {"problem.k_R", 1, 1, true},
     {"problem.k_Omega", 1, 1, true},
+    {"problem.rotor_friction", max_block_components, max_block_components, true},
+    {"problem.wheel_k_R", 1, 1, true},
+    {"problem.wheel_k_Omega", 1, 1, true},
 }};
 
 /// The unknowns' names, comma-separated (for messages).
@@ -126,25 +141,48 @@ enum class PeriodicSymmetry {
   body_omega,  ///< Ω(T) = Ω0 only (free body: every rotation of the laboratory is a symmetry)
 };
 
-/// True when problem P has a member b (then problem.b can be an unknown).
+/// True when P is a body with rotors (problems/gyrostat.hpp): its body terms are its member `body`'s, and its rotors'
+/// friction and wheel gains can be unknowns.
 template <class P>
-inline constexpr bool has_b_v = requires(P p) { p.b; };
-/// True when problem P has a member z0 (then problem.z0 can be an unknown).
+inline constexpr bool is_gyrostat_v = requires(P p) { p.body; p.rotors; p.rotor_count; p.wheel_control; };
+/// The body whose terms the unknowns set: a gyrostat's `body`, else the problem itself.
 template <class P>
-inline constexpr bool has_z0_v = requires(P p) { p.z0; };
-/// True when problem P has a damping matrix C with its flag (then problem.damping can be an unknown).
+constexpr auto& body_of(P& problem) {
+  if constexpr (is_gyrostat_v<std::remove_const_t<P>>) return problem.body;
+  else return problem;
+}
+/// The type of body_of(P&).
 template <class P>
-inline constexpr bool has_damping_v = requires(P p) { p.damping; p.has_damping; };
-/// True when problem P has constant body- and laboratory-frame torques with their flag (problem.body_torque,
+using body_t = std::remove_cvref_t<decltype(body_of(std::declval<P&>()))>;
+/// The problems a fit integrates: the RigidBodyProblems, and the gyrostat.
+template <class P>
+concept FitProblem = RigidBodyProblem<P> || is_gyrostat_v<P>;
+
+/// True when problem P's body has a member b (then problem.b can be an unknown).
+template <class P>
+inline constexpr bool has_b_v = requires(body_t<P> p) { p.b; };
+/// True when problem P's body has a member z0 (then problem.z0 can be an unknown).
+template <class P>
+inline constexpr bool has_z0_v = requires(body_t<P> p) { p.z0; };
+/// True when problem P's body has a damping matrix C with its flag (then problem.damping can be an unknown).
+template <class P>
+inline constexpr bool has_damping_v = requires(body_t<P> p) { p.damping; p.has_damping; };
+/// True when problem P's body has constant body- and laboratory-frame torques with their flag (problem.body_torque,
 /// problem.lab_torque).
 template <class P>
-inline constexpr bool has_constant_torque_v = requires(P p) { p.body_torque; p.lab_torque; p.has_constant; };
-/// True when problem P has an attitude controller's gains with its flag (problem.k_R, problem.k_Omega).
+inline constexpr bool has_constant_torque_v = requires(body_t<P> p) { p.body_torque; p.lab_torque; p.has_constant; };
+/// True when problem P's body has an attitude controller's gains with its flag (problem.k_R, problem.k_Omega).
 template <class P>
-inline constexpr bool has_gains_v = requires(P p) { p.k_R; p.k_Omega; p.has_control; };
-/// True when problem P has a vertical k (the about_k symmetry of periodic orbits).
+inline constexpr bool has_gains_v = requires(body_t<P> p) { p.k_R; p.k_Omega; p.has_control; };
+/// True when problem P has a vertical k (the about_k symmetry of periodic orbits; not a gyrostat's).
 template <class P>
 inline constexpr bool has_k_v = requires(P p) { p.k; };
+/// True when P declares itself torque-free (a periodic orbit's automatic symmetry is then body_omega).
+template <class P>
+inline constexpr bool torque_free_v = [] {
+  if constexpr (requires { P::has_torque; }) return !P::has_torque;
+  else return false;
+}();
 
 /// What a Model fits: observations (residuals at the observation times) or a periodic orbit (one residual).
 enum class Mode { observations, periodic };
@@ -166,7 +204,7 @@ struct ModelOptions {
 /// the unknowns' values, their manifolds and bounds, and the cost functions (the header). It owns its parameter
 /// values, manifolds and the cached trajectory; not copyable. The cost functions refer to it: it must outlive the
 /// ceres::Problem. Concurrent evaluations of the observation costs serialise on mutex().
-template <template <class> class Method, RigidBodyProblem P, int N>
+template <template <class> class Method, FitProblem P, int N>
 class Model {
  public:
   using Jet = ceres::Jet<double, N>;     ///< the Jet of a derivative pass (N tangent coordinates)
@@ -196,7 +234,8 @@ class Model {
     values_[idx(Block::omega)].assign(initial.Omega.data(), initial.Omega.data() + 3);
     values_[idx(Block::R)].assign(R0.data(), R0.data() + 9);
     // Principal axes of the base inertia: kept exactly when it is diagonal (the moments keep the scene's order).
-    const Mat3<double>& J = problem.inertia;
+    const auto& body = body_of(problem);
+    const Mat3<double>& J = body.inertia;
     const bool diagonal = J(0, 1) == 0 && J(0, 2) == 0 && J(1, 2) == 0 && J(1, 0) == 0 && J(2, 0) == 0 && J(2, 1) == 0;
     Vec3<double> moments;
     if (diagonal) {
@@ -210,33 +249,44 @@ class Model {
     }
     axes_identity_ = diagonal;
     values_[idx(Block::inertia)] = {std::log(moments(0)), std::log(moments(1)), std::log(moments(2))};
-    if constexpr (has_b_v<P>) values_[idx(Block::b)] = {static_cast<double>(problem.b)};
+    if constexpr (has_b_v<P>) values_[idx(Block::b)] = {static_cast<double>(body.b)};
     else values_[idx(Block::b)] = {0.0};
-    if constexpr (has_z0_v<P>) values_[idx(Block::z0)] = {problem.z0(0), problem.z0(1), problem.z0(2)};
+    if constexpr (has_z0_v<P>) values_[idx(Block::z0)] = {body.z0(0), body.z0(1), body.z0(2)};
     else values_[idx(Block::z0)] = {0.0, 0.0, 1.0};
     values_[idx(Block::period)] = {period};
     values_[idx(Block::phase)] = {phase};
     values_[idx(Block::damping)] = {0.0};
     if constexpr (has_damping_v<P>) {
       // C = c I: its diagonal's first entry; any other C is flagged (an error if problem.damping is an unknown).
-      const Mat3<double> C = problem.has_damping ? Mat3<double>(problem.damping) : Mat3<double>::Zero();
+      const Mat3<double> C = body.has_damping ? Mat3<double>(body.damping) : Mat3<double>::Zero();
       values_[idx(Block::damping)] = {C(0, 0)};
       isotropic_damping_ = C == C(0, 0) * Mat3<double>::Identity();
     }
     values_[idx(Block::body_torque)] = {0.0, 0.0, 0.0};
     values_[idx(Block::lab_torque)] = {0.0, 0.0, 0.0};
     if constexpr (has_constant_torque_v<P>) {
-      if (problem.has_constant) {
-        values_[idx(Block::body_torque)] = {problem.body_torque(0), problem.body_torque(1), problem.body_torque(2)};
-        values_[idx(Block::lab_torque)] = {problem.lab_torque(0), problem.lab_torque(1), problem.lab_torque(2)};
+      if (body.has_constant) {
+        values_[idx(Block::body_torque)] = {body.body_torque(0), body.body_torque(1), body.body_torque(2)};
+        values_[idx(Block::lab_torque)] = {body.lab_torque(0), body.lab_torque(1), body.lab_torque(2)};
       }
     }
     values_[idx(Block::k_R)] = {0.0};
     values_[idx(Block::k_Omega)] = {0.0};
     if constexpr (has_gains_v<P>) {
-      values_[idx(Block::k_R)] = {static_cast<double>(problem.k_R)};
-      values_[idx(Block::k_Omega)] = {static_cast<double>(problem.k_Omega)};
-      has_controller_ = problem.has_control;
+      values_[idx(Block::k_R)] = {static_cast<double>(body.k_R)};
+      values_[idx(Block::k_Omega)] = {static_cast<double>(body.k_Omega)};
+      has_controller_ = body.has_control;
+    }
+    values_[idx(Block::rotor_friction)].assign(max_block_components, 0.0);
+    values_[idx(Block::wheel_k_R)] = {0.0};
+    values_[idx(Block::wheel_k_Omega)] = {0.0};
+    if constexpr (is_gyrostat_v<P>) {
+      rotor_count_ = problem.rotor_count;
+      for (int i = 0; i < problem.rotor_count; ++i)
+        values_[idx(Block::rotor_friction)][static_cast<std::size_t>(i)] = static_cast<double>(problem.rotors[i].friction);
+      values_[idx(Block::wheel_k_R)] = {static_cast<double>(problem.k_R)};
+      values_[idx(Block::wheel_k_Omega)] = {static_cast<double>(problem.k_Omega)};
+      has_wheel_control_ = problem.wheel_control;
     }
     if (options_.mode == Mode::periodic) {
       if (!(period > 0) || !std::isfinite(period)) throw FitInputError("period", "must be a finite number > 0");
@@ -277,7 +327,12 @@ class Model {
   /// The tangent coordinate of component k of block b, −1 when it is fixed or b is not an unknown.
   int tangent_index(Block b, int k) const { return tangent_index_[idx(b)][k]; }
   /// True when block b has a free component.
-  bool is_active(Block b) const { return tangent_index_[idx(b)][0] >= 0 || tangent_index_[idx(b)][1] >= 0 || tangent_index_[idx(b)][2] >= 0; }
+  bool is_active(Block b) const {
+    return std::any_of(tangent_index_[idx(b)].begin(), tangent_index_[idx(b)].end(), [](int g) { return g >= 0; });
+  }
+  /// The components of block b a user sees (tangent coordinates; problem.rotor_friction: one per rotor of the problem,
+  /// its slots beyond them held at 0).
+  int components(Block b) const { return b == Block::rotor_friction ? rotor_count_ : block_info[idx(b)].tangent; }
   /// Q, the principal axes the moments are fitted about (the base tensor's; 1 for a diagonal one).
   const Mat3<double>& principal_axes() const { return axes_; }
   /// The periodic symmetry, resolved (never automatic after construction in periodic mode).
@@ -340,46 +395,55 @@ class Model {
     } else {
       s.x0.R = R0;
     }
+    auto& body = body_of(s.problem);
     if (is_active(Block::inertia)) {
       using std::exp;
       const double* l = p(Block::inertia);
       Vec3<T> m;
       for (int k = 0; k < 3; ++k) m(k) = exp(var(l[k], ti[idx(Block::inertia)][k]));
       if (axes_identity_) {
-        s.problem.inertia = m.asDiagonal();
+        body.inertia = m.asDiagonal();
       } else {
         const Mat3<T> Q = axes_.template cast<T>();
-        s.problem.inertia = Q * m.asDiagonal() * Q.transpose();
+        body.inertia = Q * m.asDiagonal() * Q.transpose();
       }
     }
     if constexpr (has_b_v<P>)
-      if (is_active(Block::b)) s.problem.b = var(p(Block::b)[0], ti[idx(Block::b)][0]);
+      if (is_active(Block::b)) body.b = var(p(Block::b)[0], ti[idx(Block::b)][0]);
     if constexpr (has_z0_v<P>) {
       if (is_active(Block::z0)) {
         const double* z = p(Block::z0);
         const Vec3<double> zd(z[0], z[1], z[2]);
         Eigen::Matrix<T, 2, 1> d;
         for (int k = 0; k < 2; ++k) d(k) = var(0.0, ti[idx(Block::z0)][k]);
-        s.problem.z0 = s2_plus(Vec3<T>(zd.template cast<T>()), Eigen::Matrix<T, 3, 2>(s2_basis(zd).template cast<T>()), d);
+        body.z0 = s2_plus(Vec3<T>(zd.template cast<T>()), Eigen::Matrix<T, 3, 2>(s2_basis(zd).template cast<T>()), d);
       }
     }
     if constexpr (has_damping_v<P>) {
       if (is_active(Block::damping)) {
-        s.problem.damping = var(p(Block::damping)[0], ti[idx(Block::damping)][0]) * Mat3<T>::Identity();
-        s.problem.has_damping = true;
+        body.damping = var(p(Block::damping)[0], ti[idx(Block::damping)][0]) * Mat3<T>::Identity();
+        body.has_damping = true;
       }
     }
     if constexpr (has_constant_torque_v<P>) {
       for (const Block b : {Block::body_torque, Block::lab_torque}) {
         if (!is_active(b)) continue;
-        Vec3<T>& M = b == Block::body_torque ? s.problem.body_torque : s.problem.lab_torque;
+        Vec3<T>& M = b == Block::body_torque ? body.body_torque : body.lab_torque;
         for (int k = 0; k < 3; ++k) M(k) = var(p(b)[k], ti[idx(b)][k]);
-        s.problem.has_constant = true;
+        body.has_constant = true;
       }
     }
     if constexpr (has_gains_v<P>) {
-      if (is_active(Block::k_R)) s.problem.k_R = var(p(Block::k_R)[0], ti[idx(Block::k_R)][0]);
-      if (is_active(Block::k_Omega)) s.problem.k_Omega = var(p(Block::k_Omega)[0], ti[idx(Block::k_Omega)][0]);
+      if (is_active(Block::k_R)) body.k_R = var(p(Block::k_R)[0], ti[idx(Block::k_R)][0]);
+      if (is_active(Block::k_Omega)) body.k_Omega = var(p(Block::k_Omega)[0], ti[idx(Block::k_Omega)][0]);
+    }
+    if constexpr (is_gyrostat_v<P>) {
+      if (is_active(Block::rotor_friction))
+        for (int k = 0; k < rotor_count_; ++k)
+          s.problem.rotors[k].friction = var(p(Block::rotor_friction)[k], ti[idx(Block::rotor_friction)][k]);
+      if (is_active(Block::wheel_k_R)) s.problem.k_R = var(p(Block::wheel_k_R)[0], ti[idx(Block::wheel_k_R)][0]);
+      if (is_active(Block::wheel_k_Omega))
+        s.problem.k_Omega = var(p(Block::wheel_k_Omega)[0], ti[idx(Block::wheel_k_Omega)][0]);
     }
     s.period = var(p(Block::period)[0], ti[idx(Block::period)][0]);
     s.phase = var(p(Block::phase)[0], ti[idx(Block::phase)][0]);
@@ -530,7 +594,7 @@ class Model {
 
   void resolve_symmetry() {
     if (options_.symmetry == PeriodicSymmetry::automatic) {
-      if (!P::has_torque) options_.symmetry = PeriodicSymmetry::body_omega;
+      if (torque_free_v<P>) options_.symmetry = PeriodicSymmetry::body_omega;
       else if (has_k_v<P>) options_.symmetry = PeriodicSymmetry::about_k;
       else options_.symmetry = PeriodicSymmetry::none;
     }
@@ -539,13 +603,15 @@ class Model {
   }
 
   void read_unknowns(std::span<const Unknown> unknowns) {
-    for (auto& t : tangent_index_) t = {-1, -1, -1};
+    for (auto& t : tangent_index_) t.fill(-1);
     for (auto& l : lower_) l.fill(-std::numeric_limits<double>::infinity());
     for (auto& u : upper_) u.fill(std::numeric_limits<double>::infinity());
     if constexpr (has_b_v<P>) lower_[idx(Block::b)][0] = 0;  // b ≥ 0
-    for (const Block b : {Block::damping, Block::k_R, Block::k_Omega}) lower_[idx(b)][0] = 0;  // c, k_R, k_Ω ≥ 0
+    for (const Block b : {Block::damping, Block::k_R, Block::k_Omega, Block::wheel_k_R, Block::wheel_k_Omega})
+      lower_[idx(b)][0] = 0;  // c, k_R, k_Ω ≥ 0
+    lower_[idx(Block::rotor_friction)].fill(0);  // c_i ≥ 0
     std::array<bool, block_count> listed{};
-    std::array<std::array<bool, 3>, block_count> free{};
+    std::array<std::array<bool, max_block_components>, block_count> free{};
     for (std::size_t u = 0; u < unknowns.size(); ++u) {
       const Unknown& un = unknowns[u];
       const std::string at = "unknowns[" + std::to_string(u) + "]";
@@ -560,19 +626,23 @@ class Model {
       if ((block == Block::b && !has_b_v<P>) || (block == Block::z0 && !has_z0_v<P>) ||
           (block == Block::damping && !has_damping_v<P>) ||
           ((block == Block::body_torque || block == Block::lab_torque) && !has_constant_torque_v<P>) ||
-          ((block == Block::k_R || block == Block::k_Omega) && !has_gains_v<P>))
+          ((block == Block::k_R || block == Block::k_Omega) && !has_gains_v<P>) ||
+          ((block == Block::rotor_friction || block == Block::wheel_k_R || block == Block::wheel_k_Omega) &&
+           !is_gyrostat_v<P>))
         throw FitInputError(at + ".name", "'" + un.name + "' does not apply to problem " + std::string(P::name));
       if (block == Block::damping && !isotropic_damping_)
         throw FitInputError(at + ".name", "'problem.damping' fits c of C = c I; the scene's damping matrix is not a "
                                           "multiple of I");
       if ((block == Block::k_R || block == Block::k_Omega) && !has_controller_)
         throw FitInputError(at + ".name", "'" + un.name + "' needs the scene's attitude_control term (its target)");
+      if ((block == Block::wheel_k_R || block == Block::wheel_k_Omega) && !has_wheel_control_)
+        throw FitInputError(at + ".name", "'" + un.name + "' needs the scene's wheel_control (its target)");
       if (block == Block::period && options_.mode != Mode::periodic)
         throw FitInputError(at + ".name", "'period' is an unknown of periodic-orbit fits only");
       if (block == Block::phase && (options_.mode != Mode::periodic || options_.symmetry != PeriodicSymmetry::about_k))
         throw FitInputError(at + ".name", "'phase' is an unknown of periodic orbits with the about_k symmetry only");
       const BlockInfo& info = block_info[b];
-      const int comps = info.euclidean ? info.ambient : info.tangent;
+      const int comps = components(block);  // what the user sees (rotor_friction: the rotors present)
       for (int k = 0; k < comps; ++k) free[b][k] = true;
       for (const int k : un.fixed) {
         if (!info.euclidean) throw FitInputError(at + ".fixed", "components of " + un.name + " cannot be fixed separately");
@@ -641,9 +711,11 @@ class Model {
   std::vector<double> times_;     ///< unique observation times, increasing
   std::vector<int> time_index_;   ///< observation → index in times_
   std::array<std::vector<double>, block_count> values_;
-  std::array<std::array<int, 3>, block_count> tangent_index_{};
+  std::array<std::array<int, max_block_components>, block_count> tangent_index_{};
   bool isotropic_damping_ = true;  ///< the base C is c I (problem.damping may be an unknown)
   bool has_controller_ = false;    ///< the base problem has an attitude controller (problem.k_R, k_Omega)
+  bool has_wheel_control_ = false; ///< a gyrostat with the wheel PD law (problem.wheel_k_R, wheel_k_Omega)
+  int rotor_count_ = 0;            ///< a gyrostat's rotors (problem.rotor_friction's components)
   std::array<std::array<double, 9>, block_count> lower_{}, upper_{};
   std::array<std::unique_ptr<ceres::Manifold>, block_count> manifolds_;
   std::vector<Block> active_;
@@ -656,7 +728,7 @@ class Model {
 };
 
 /// One observation's residual block: reads the model's cached trajectory.
-template <template <class> class Method, RigidBodyProblem P, int N>
+template <template <class> class Method, FitProblem P, int N>
 class ObservationCost final : public ceres::CostFunction {
  public:
   using M = Model<Method, P, N>;  ///< the model
@@ -704,7 +776,7 @@ class ObservationCost final : public ceres::CostFunction {
 };
 
 /// The periodicity residual: one integration over [0, T] per evaluation (and per Jet pass).
-template <template <class> class Method, RigidBodyProblem P, int N>
+template <template <class> class Method, FitProblem P, int N>
 class PeriodicCost final : public ceres::CostFunction {
  public:
   using M = Model<Method, P, N>;  ///< the model
@@ -737,11 +809,11 @@ class PeriodicCost final : public ceres::CostFunction {
   const M& model_;
 };
 
-template <template <class> class Method, RigidBodyProblem P, int N>
+template <template <class> class Method, FitProblem P, int N>
 std::unique_ptr<ceres::CostFunction> Model<Method, P, N>::observation_cost(std::size_t i) {
   return std::make_unique<ObservationCost<Method, P, N>>(*this, i);
 }
-template <template <class> class Method, RigidBodyProblem P, int N>
+template <template <class> class Method, FitProblem P, int N>
 std::unique_ptr<ceres::CostFunction> Model<Method, P, N>::periodic_cost() {
   return std::make_unique<PeriodicCost<Method, P, N>>(*this);
 }

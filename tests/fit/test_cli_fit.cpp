@@ -483,6 +483,48 @@ TEST_F(CliFit, RecoversDampingAndDisturbanceOfARigidBody) {
       << bad.err;
 }
 
+// A spacecraft slewing on three wheels with friction (`gyrostat`): `lgi run` writes its attitudes with the gyrostat
+// LGVI, `lgi fit` recovers the wheels' friction and the wheel PD law's gains from them (noise-free: to round-off).
+TEST_F(CliFit, RecoversRotorFrictionAndWheelGainsOfAGyrostat) {
+  const auto scene = [&](const std::string& friction, const std::string& k_R, const std::string& method) {
+    std::vector<std::string> c;
+    for (std::size_t at = 0, next; at <= friction.size(); at = next + 1) {
+      next = std::min(friction.find(',', at), friction.size());
+      c.push_back(friction.substr(at, next - at));
+    }
+    return R"({"problem": {"type": "gyrostat", "inertia": [12, 10, 8],
+        "rotors": [{"axis": [1, 0, 0], "inertia": 0.05, "friction": )" + c[0] + R"(, "rate": 50},
+                   {"axis": [0, 1, 0], "inertia": 0.05, "friction": )" + c[1] + R"(, "rate": -30},
+                   {"axis": [0, 0, 1], "inertia": 0.05, "friction": )" + c[2] + R"(, "rate": 40}],
+        "wheel_control": {"target": {"axis_angle": {"axis": [0, 0, 1], "angle": 0.8}}, "k_R": )" + k_R + R"(, "k_Omega": 6}},
+      "initial": {"omega": [0.02, -0.01, 0.03]}, "integrator": {"method": ")" + method +
+           R"(", "dt": 0.02}, "t_end": 20, "output": {"every": 20})";
+  };
+  write("truth.json", scene("0.002,0.003,0.0015", "2", "lgvi") + "}");
+  const Result run = lgi("run " + (dir_ / "truth.json").string() + " -q -o " + (dir_ / "obs.csv").string());
+  ASSERT_EQ(run.status, 0) << run.err;
+  const std::string fit = R"(, "fit": {"unknowns": ["problem.rotor_friction", "problem.wheel_k_R"],
+                                       "observations": {"csv": "obs.csv", "sigma_attitude": 1e-3}}})";
+  write("fit.json", scene("0.001,0.001,0.001", "1.5", "lgvi") + fit);
+  const Result r = lgi("fit " + (dir_ / "fit.json").string() + " -o " + (dir_ / "result.json").string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json res = json::parse(slurp(dir_ / "result.json"));
+  const Eigen::Vector3d c = vec_of(res.at("problem").at("rotor_friction"));
+  const double k_R = res.at("problem").at("wheel_k_R").get<double>();
+  const double error = std::max(std::abs(k_R - 2.0), (c - Eigen::Vector3d(0.002, 0.003, 0.0015)).cwiseAbs().maxCoeff());
+  std::printf("lgi fit, gyrostat: friction (%.15f, %.15f, %.15f), k_R = %.15f, largest error %.2e, %d iterations\n",
+              c(0), c(1), c(2), k_R, error, res.at("iterations").get<int>());
+  EXPECT_LT(error, 1e-10);
+  EXPECT_TRUE(res.at("usable").get<bool>());
+
+  write("rkmk4.json", scene("0.001,0.001,0.001", "1.5", "rkmk4") + fit);
+  const Result bad = lgi("fit " + (dir_ / "rkmk4.json").string());
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_EQ(bad.err, "lgi: error: " + (dir_ / "rkmk4.json").string() +
+                         ": /integrator/method: lgi fit offers gyrostat with the method lgvi (got \"rkmk4\"; the "
+                         "library lgi::fit takes any of the gyrostat's methods)\n");
+}
+
 TEST_F(CliFit, MethodsAndProblemsOutsideTheCompiledSetAreNamed) {
   const std::string obs = R"("fit": {"unknowns": ["initial.omega"], "observations": [{"t": 0.5, "omega": [1, 2, 3], "sigma": 1}]})";
   write("method.json", R"({"problem": {"type": "free_body", "inertia": [1, 2, 2.5]}, "initial": {"omega": [1, 2, 3]},
