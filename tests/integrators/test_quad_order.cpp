@@ -30,6 +30,7 @@
 #include <lgi/core/driver.hpp>
 #include <lgi/core/invariants.hpp>
 #include <lgi/integrators/butcher_tableaus.hpp>
+#include <lgi/integrators/composition.hpp>
 #include <lgi/integrators/gyrostat.hpp>
 #include <lgi/integrators/rkmk.hpp>
 #include <lgi/problems/free_body.hpp>
@@ -282,6 +283,7 @@ TEST(QuadOrder, Dop853CayleyOnTheSkewHeavyTop) {
 using GQ = Gyrostat<Q>;
 using GyrostatVern9Q = GyrostatRkmk<tableaus::verner9_in<__float128>, GQ>;
 using GyrostatDop853Q = GyrostatRkmk<tableaus::dop853_in<__float128>, GQ>;
+using GyrostatKahanLi8Q = Composition<compositions::kahan_li8, GyrostatLgvi, GQ>;
 constexpr double gyrostat_t_end = 2.0;
 
 // R orthogonal to binary128's precision (two Newton steps of the polar decomposition, X ← (X + X⁻ᵀ)/2, from a
@@ -341,10 +343,17 @@ const GyrostatReference& gyrostat_reference() {
   return r;
 }
 
+// The LGVI's Newton tolerance at binary128's round-off (the default, 1e-14, is double's).
+StepperOptions quad_newton() {
+  StepperOptions o;
+  o.tolerance = 1e-32;
+  return o;
+}
+
 template <class S>
 GyrostatState<Q> gyrostat_run(long n, std::vector<Q>* power = nullptr) {
   const GQ g = test::three_rotor_gyrostat().cast<Q>();
-  S stepper(g);
+  S stepper(g, quad_newton());
   const GyrostatDynamics<Q> dyn(g);
   GyrostatState<Q> y = stepper.to_internal(gyrostat_start(), Q(0));
   const Q h = Q(gyrostat_t_end) / Q(n);
@@ -496,15 +505,22 @@ Balance driven_top_balance_defect(long n) {
   return balance(energy(p, x), E0, power, h);
 }
 
-// Verner 9(8) and DOP853 RKMK on the gyrostat (exp chart) and in Cayley coordinates on the driven damped top. Not here:
-// lgvi_kahan_li8, whose composition coefficients exist only as doubles — their sum differs from 1 by ≈ 1e-16, and in
-// binary128 its defect stays at 3.6e-15 (the power × T × that) from n = 128 on.
+// Verner 9(8) and DOP853 RKMK on the gyrostat (exp chart) and in Cayley coordinates on the driven damped top, and the
+// gyrostat LGVI's Kahan–Li 8 composition, whose coefficients exist only as doubles: their sum differs from 1 by
+// ≈ 1e-16, so its defect levels off at 3.6e-15 (the power × T × that) from n ≈ 128; its window stops 39× above. Not
+// here: the Sofroniou–Spaletta 10 composition, whose defect falls from 1.9e-10 (n = 20) to its floor (1.6e-16, n = 48)
+// before Gregory's rule (n ≥ 18) is 100× below it at more than two points.
 TEST(QuadOrder, EnergyBalanceOfOrdersEightAndNine) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<long> ns{32, 40, 48, 64, 80, 96, 128, 160, 192, 256, 320, 384};
   EXPECT_NEAR(balance_order("rkmk_vern9 gyrostat", gyrostat_t_end, ns, 1e-18, 1e-30, gyrostat_balance_defect<GyrostatVern9Q>).order,
               9.0, 0.2);
   EXPECT_NEAR(balance_order("rkmk_dp8 gyrostat", gyrostat_t_end, ns, 1e-16, 1e-30, gyrostat_balance_defect<GyrostatDop853Q>).order,
+              8.0, 0.2);
+  // lgvi_kahan_li8 between 1e-9 and 1e-13: ≥ 39× above its floor (below).
+  const std::vector<long> few{20, 24, 28, 32, 36, 40, 44, 48, 52, 56, 64};
+  EXPECT_NEAR(balance_order("lgvi_kahan_li8 gyrostat", gyrostat_t_end, few, 1e-9, 1e-13,
+                            gyrostat_balance_defect<GyrostatKahanLi8Q>).order,
               8.0, 0.2);
   EXPECT_NEAR(balance_order("rkmk_vern9_cayley driven damped top", 2.0, ns, 1e-18, 1e-30,
                             driven_top_balance_defect<Vern9CayleyQ>).order,
