@@ -166,7 +166,8 @@ class GyrostatDynamics {
     if (g.wheel_control) dg_dOmega_ += g.k_Omega * pinv_;
     c_over_Is_ = c_.cwiseProduct(inv_Is_);
     const TorquedBody<T>& b = g.body;
-    has_external_ = value_of(b.b) != 0 || b.has_constant || b.table || b.has_damping || b.has_control;
+    has_external_ =
+        value_of(b.b) != 0 || b.has_constant || b.table || b.has_damping || b.has_control || b.has_gravity_gradient;
     bool friction = false;
     for (int i = 0; i < g.rotor_count; ++i) friction = friction || value_of(g.rotors[i].friction) != 0;
     reads_state_ = b.has_damping || b.has_control || g.wheel_control || friction;

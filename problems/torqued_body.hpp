@@ -13,13 +13,16 @@
 ///     − C Ω                                linear damping, C symmetric positive semi-definite
 ///     − k_R e_R − k_Ω e_Ω                  PD control toward a constant target attitude R_d, rate Ω_d:
 ///        e_R = ½ vee(R_dᵀR − RᵀR_d),  e_Ω = Ω − RᵀR_d Ω_d
+///     + 3n² ρ × (J ρ),  ρ = Rᵀ r̂(t)         the gravity-gradient torque of a circular orbit of rate n
+///        r̂(t) = cos(nt) r̂0 + sin(nt) (ν × r̂0)   (problems/satellite.hpp's, with its equations and conventions)
 /// ~~~
 ///
 /// (the attitude and rate errors of Lee, Leok & McClamroch, "Geometric tracking control of a quadrotor UAV on
 /// SE(3)", Proc. IEEE CDC 2010, 5420, §III, here with a constant R_d). Energy E = ½ Ω·JΩ + V(R) with
 /// V = b k·(R z0) + k_R Ψ(R), Ψ = ½ tr(I − R_dᵀR): for R → R exp(η̂), dΨ = −½ tr(R_dᵀR η̂) = η·e_R, so the
-/// proportional term is −k_R dΨ, conservative. Balance: dE/dt = Ω·M_nc with M_nc = M_body + Rᵀ M_lab + M_tab − CΩ − k_Ω e_Ω;
-/// damping alone gives dE/dt = −Ω·CΩ ≤ 0. The spatial momentum m = RJΩ obeys m' = R M: no invariant in general; the
+/// proportional term is −k_R dΨ, conservative. Balance: dE/dt = Ω·M_nc with M_nc = M_body + Rᵀ M_lab + M_tab − CΩ − k_Ω e_Ω
+/// + M_gg; damping alone gives dE/dt = −Ω·CΩ ≤ 0. The gravity-gradient potential (3n²/2) ρ·Jρ depends on t and is
+/// not in V: its torque counts as external work (the satellite problem type reports it and the Jacobi integral). The spatial momentum m = RJΩ obeys m' = R M: no invariant in general; the
 /// output columns are m and |JΩ| (the free body's), whose changes show the torques' action.
 ///
 /// Not a ReducedAttitudeProblem (its torque reads Ω): the explicit methods take it (RKMK, commutator-free,
@@ -78,6 +81,10 @@ struct TorquedBody {
   bool has_constant = false;              ///< M_body, M_lab present
   bool has_damping = false;               ///< −CΩ present
   bool has_control = false;               ///< the PD law present
+  T orbit_rate = T(0);                    ///< n of the gravity-gradient term (has_gravity_gradient)
+  Vec3<T> radial = Vec3<T>::UnitX();      ///< r̂0, unit, the orbit's radial direction at t = 0 (has_gravity_gradient)
+  Vec3<T> normal = Vec3<T>::UnitZ();      ///< ν, unit orbit normal ⊥ r̂0 (has_gravity_gradient)
+  bool has_gravity_gradient = false;      ///< the gravity-gradient torque present
 
   /// V(R) = b k·(R z0) + k_R ½ tr(I − R_dᵀR).
   T potential(const Mat3<T>& R) const {
@@ -97,7 +104,18 @@ struct TorquedBody {
     }
     if (has_damping) M -= damping * Omega;
     if (has_control) M -= k_R * attitude_error(R) + k_Omega * rate_error(R, Omega);
+    if (has_gravity_gradient) [[unlikely]]
+      M += gravity_gradient(t, R);
     return M;
+  }
+  /// 3n² ρ × (Jρ), ρ = Rᵀ r̂(t): the gravity-gradient term (problems/satellite.hpp's torque, the same operations).
+  /// Out of line: torque() of a body without it only tests the flag.
+  [[gnu::noinline]] Vec3<T> gravity_gradient(const T& t, const Mat3<T>& R) const {
+    using std::cos;
+    using std::sin;
+    const T phase = orbit_rate * t;
+    const Vec3<T> rho = R.transpose() * Vec3<T>(cos(phase) * radial + sin(phase) * Vec3<T>(normal.cross(radial)));
+    return (T(3) * orbit_rate * orbit_rate) * Vec3<T>(rho.cross(inertia * rho));
   }
   /// D = ∂M/∂Ω = −C − k_Ω I (the terms that read Ω are linear in it): the forced LGVI's Newton (integrators/lgvi.hpp).
   Mat3<T> torque_omega_jacobian(const T&, const Mat3<T>&, const Vec3<T>&) const {
@@ -159,6 +177,10 @@ struct TorquedBody {
     c.has_constant = has_constant;
     c.has_damping = has_damping;
     c.has_control = has_control;
+    c.orbit_rate = S(orbit_rate);
+    c.radial = radial.template cast<S>();
+    c.normal = normal.template cast<S>();
+    c.has_gravity_gradient = has_gravity_gradient;
     return c;
   }
 };

@@ -168,10 +168,18 @@ void read_term(const Node& term, TorquedBody<double>& body, bool& has_controller
     body.k_R = term.at("k_R").non_negative();
     body.k_Omega = term.at("k_Omega").non_negative();
     body.has_control = true;
+  } else if (type == "gravity_gradient") {
+    term.allow_only({"type", "n", "radial", "normal"}, "gravity_gradient");
+    if (body.has_gravity_gradient) term.fail("one gravity_gradient term per body");
+    const CircularOrbit orbit = read_circular_orbit(term);
+    body.orbit_rate = orbit.n;
+    body.radial = orbit.radial;
+    body.normal = orbit.normal;
+    body.has_gravity_gradient = true;
   } else {
     term.at("type").fail("unknown torque term " + quoted_input(type) +
-                         did_you_mean(type, {"constant", "table", "damping", "attitude_control"}) +
-                         " (known: constant, table, damping, attitude_control)");
+                         did_you_mean(type, {"constant", "table", "damping", "attitude_control", "gravity_gradient"}) +
+                         " (known: constant, table, damping, attitude_control, gravity_gradient)");
   }
 }
 
@@ -191,6 +199,25 @@ TorquedBody<double> read_torqued_body(const Node& p) {
 
 Mat3<double> read_target_attitude(const Node& t) { return read_target(t); }
 
-LGI_DEFINE_PROBLEM(rigid_body, TorquedBody<double>, "rigid body under optional gravity and torque terms: constant or tabulated (body or lab frame), damping -C Omega, PD attitude control", ({"type", "inertia", "gravity", "torques"}), read_torqued_body)
+CircularOrbit read_circular_orbit(const Node& p) {
+  CircularOrbit o;
+  o.n = p.at("n").positive();
+  if (auto nu = p.find("normal")) o.normal = read_unit_vector(*nu);
+  if (auto r = p.find("radial")) {
+    const Vec3<double> r0 = read_unit_vector(*r);
+    const double c = r0.dot(o.normal);
+    if (!(std::abs(c) <= 1e-9))
+      r->fail("the radial direction must be perpendicular to the orbit normal (to 1e-9), radial . normal = " +
+              format_number(c));
+    o.radial = (r0 - c * o.normal).normalized();
+  } else if (std::abs(o.normal.dot(o.radial)) > 1e-9) {
+    p.at("normal").fail("the default radial direction e1 is not perpendicular to this orbit normal: give \"radial\"");
+  } else {
+    o.radial = (o.radial - o.normal.dot(o.radial) * o.normal).normalized();
+  }
+  return o;
+}
+
+LGI_DEFINE_PROBLEM(rigid_body, TorquedBody<double>, "rigid body under optional gravity and torque terms: constant or tabulated (body or lab frame), damping -C Omega, PD attitude control, gravity gradient", ({"type", "inertia", "gravity", "torques"}), read_torqued_body)
 
 }  // namespace lgi::app

@@ -15,6 +15,15 @@ namespace lgi::app {
 // The body of a "problem" object: "inertia", optional "gravity" and "torques" (docs/scenes.md, "rigid_body"); other
 // keys are the caller's to allow.
 TorquedBody<double> read_torqued_body(const Node& problem);
+// A circular orbit: rate n > 0, unit normal ν, unit radial direction r̂0 ⊥ ν at t = 0 (problems/satellite.hpp).
+struct CircularOrbit {
+  double n = 0;
+  Vec3<double> radial = Vec3<double>::UnitX();
+  Vec3<double> normal = Vec3<double>::UnitZ();
+};
+// "n" (required), "normal" (default e3), "radial" (default e1; perpendicular to the normal to 1e-9, then made exactly
+// so) of p: the satellite's problem keys and the gravity_gradient term's.
+CircularOrbit read_circular_orbit(const Node& p);
 // {"R": ...} | {"quaternion": [w, x, y, z]} | {"axis_angle": {...}}, returned as its rotation.
 Mat3<double> read_target_attitude(const Node& target);
 // A table of samples in R^D from the CSV named by term's "file", joined as its "interpolation" says: columns `names`

@@ -381,7 +381,14 @@ std::vector<Case> cases() {
        "lgi: error: {file}: /problem/torques/1/frame: unknown frame \"inertial\" (known: body, lab)"},
       {"torque_term_unknown", edit(rigid_body, "\"type\": \"damping\"", "\"type\": \"dampng\""),
        "lgi: error: {file}: /problem/torques/0/type: unknown torque term \"dampng\"; did you mean \"damping\"? "
-       "(known: constant, table, damping, attitude_control)"},
+       "(known: constant, table, damping, attitude_control, gravity_gradient)"},
+      {"gravity_gradient_radial_in_plane", edit(rigid_body, "\"type\": \"damping\"",
+                                                "\"type\": \"gravity_gradient\", \"n\": 1, \"radial\": [0, 0, 1]}, {\"type\": \"damping\""),
+       "lgi: error: {file}: /problem/torques/0/radial: the radial direction must be perpendicular to the orbit normal "
+       "(to 1e-9), radial . normal = 1"},
+      {"gravity_gradient_rate_missing", edit(rigid_body, "\"type\": \"damping\"",
+                                             "\"type\": \"gravity_gradient\"}, {\"type\": \"damping\""),
+       "lgi: error: {file}: /problem/torques/0: missing key \"n\""},
       {"control_target_not_unit", edit(rigid_body, "[1, 0, 0, 0]", "[1, 0.5, 0, 0]"),
        "lgi: error: {file}: /problem/torques/2/target/quaternion: must be a unit quaternion (to 0.01), its length is "
        "1.118033988749895"},
