@@ -453,6 +453,7 @@ int list_command(bool markdown) {
   const auto yes = [](bool b) { return b ? "yes" : "no"; };
   // "2", or "2 (free body 8)" where the method is of higher order on torque-free problems
   const auto order = [](const lgi::MethodTraits& t) {
+    if (t.exact_solution) return std::string("exact");
     std::string s = std::to_string(t.order);
     if (t.free_body_order != 0 && t.free_body_order != t.order) s += " (free body " + std::to_string(t.free_body_order) + ")";
     return s;

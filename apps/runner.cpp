@@ -214,8 +214,10 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
   // A forcing that reads Ω does work: the symplectic methods (the LGVI and its compositions) take it in the discrete
   // Lagrange–d'Alembert form, which is not symplectic.
   const char* geometry = !m.symplectic ? "" : scene.problem->reads_omega() ? ", forced Lagrange-d'Alembert" : ", symplectic";
-  std::snprintf(buf, sizeof buf, "%s: %s, %s (order %d%s%s), dt = %s\n", scene.file.c_str(), problem.c_str(),
-                std::string(m.name).c_str(), order, geometry,
+  // The exact solution has no order: dt only spaces the states it evaluates.
+  const std::string order_text = m.exact_solution ? "exact solution" : "order " + std::to_string(order);
+  std::snprintf(buf, sizeof buf, "%s: %s, %s (%s%s%s), dt = %s\n", scene.file.c_str(), problem.c_str(),
+                std::string(m.name).c_str(), order_text.c_str(), geometry,
                 !coordinates.empty() ? coordinates.c_str() : m.exact_on_group ? ", on SO(3)" : "",
                 format_number(scene.dt).c_str());
   s += buf;

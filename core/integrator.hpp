@@ -33,7 +33,7 @@ namespace lgi {
 struct MethodTraits {
   std::string_view name;         ///< scene name, e.g. "lgvi"
   std::string_view title;        ///< e.g. "Lie group variational integrator"
-  int order;                     ///< classical order of convergence, on every problem the method applies to
+  int order;                     ///< classical order of convergence, on every problem the method applies to (0: exact_solution)
   int free_body_order = 0;       ///< order on torque-free problems where it is higher (0: same as order)
   bool symplectic;               ///< the step is a symplectic map of T*SO(3)
   bool symmetric;                ///< step(h) ∘ step(−h) = id (time-reversible)
@@ -43,6 +43,9 @@ struct MethodTraits {
   std::string_view reference;    ///< paper and equation numbers
   /// The scene keys of "integrator" this method reads besides "method" and "dt" (StepperOptions fields).
   std::array<std::string_view, 6> options{};
+  /// The exact solution (to round-off) of every problem the method applies to: no truncation error, dt only spaces
+  /// the states computed; `order` is then 0.
+  bool exact_solution = false;
 };
 
 /// The outcome of one step; anything but `ok` leaves the state y untouched.

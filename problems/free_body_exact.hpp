@@ -473,6 +473,17 @@ class FreeBodyExact {
       phi = rate_ * t - cphi_ * beta_ * (atan(beta_ * th) - atan0_);
     }
 
+    /// Computes K(κ) and Π(n | κ) once (elliptic regimes; no effect in the others), so that state(t) and
+    /// momentum_state(t) at long times (|λt| > 4), and where am u crosses ±π/2, cost one Landen descent + 1 RF +
+    /// 1 RJ instead of 3 RF + 2 RJ: for a solution evaluated at many times. The values are those computed
+    /// otherwise (the same bits).
+    void precompute_periods() {
+      if (regime_ != Regime::axis1 && regime_ != Regime::axis3) return;
+      K_ = complete_k();
+      Pic_ = complete_pi();
+      periods_ = true;
+    }
+
     /// Period of m(t) (elliptic regimes): 4K/|λ|.
     W period() const {
       using std::abs;
@@ -565,9 +576,12 @@ class FreeBodyExact {
     }
 
     /// K(κ) = RF(0, m_c, 1) and Π(n | κ) = K + (n/3) RJ(0, m_c, 1, 1 − n): only long times and a
-    /// crossing of am u = ±π/2 need them, so they are not part of solve().
-    W complete_k() const { return free_body_exact_detail::rf(W(0), mc_, W(1)); }
-    W complete_pi() const { return complete_k() + (n_ / 3) * free_body_exact_detail::rj(W(0), mc_, W(1), W(1) - n_); }
+    /// crossing of am u = ±π/2 need them, so they are not part of solve() (precompute_periods stores them for
+    /// a solution evaluated at many times).
+    W complete_k() const { return periods_ ? K_ : W(free_body_exact_detail::rf(W(0), mc_, W(1))); }
+    W complete_pi() const {
+      return periods_ ? Pic_ : W(complete_k() + (n_ / 3) * free_body_exact_detail::rj(W(0), mc_, W(1), W(1) - n_));
+    }
 
     /// The increment of the amplitude over Δu = v, |v| ≤ 4, from its value modulo 2π: am' = dn ∈ [κ', 1], so
     /// Δam lies within |v|(1 − κ')/2 ≤ 2 of v(1 + κ')/2, and of the candidates d + 2πj exactly one does.
@@ -624,8 +638,9 @@ class FreeBodyExact {
     Vec3<W> axis_ = Vec3<W>::Zero();  ///< steady/symmetric: unit rotation axis (body, principal frame)
     Vec3<W> A_ = Vec3<W>::Zero();     ///< amplitudes A1, A2, A3
     W G_ = 0, rate_ = 0, spin_ = 0, lambda_ = 0, u0_ = 0, k_ = 0, kc_ = 0, mc_ = 0, n_ = 0, F0_ = 0, Pir0_ = 0,
-      j0_ = 0, am0_ = 0, phi_r0_ = 0, sn_u0_ = 0, cn_u0_ = 0, dn_u0_ = 0, rho0_ = 0, cphi_ = 0, sigma_ = 1, sigma1_ = 1, sigma3_ = 1, beta_ = 0, atan0_ = 0, delta2_rel_ = 0;
+      j0_ = 0, K_ = 0, Pic_ = 0, am0_ = 0, phi_r0_ = 0, sn_u0_ = 0, cn_u0_ = 0, dn_u0_ = 0, rho0_ = 0, cphi_ = 0, sigma_ = 1, sigma1_ = 1, sigma3_ = 1, beta_ = 0, atan0_ = 0, delta2_rel_ = 0;
     int a_ = 2, p_ = 0, sym_axis_ = 2;
+    bool periods_ = false;  ///< K_, Pic_ hold K(κ), Π(n | κ) (precompute_periods)
   };
 
   /// Diagonalises J once (in W). Throws std::invalid_argument unless J is finite, symmetric to 1e-12 and

@@ -257,7 +257,7 @@ std::vector<Case> cases() {
        "split_dmv_yoshida4, split_dmv_suzuki4, split_dmv_kahan_li6, split_dmv_kahan_li8, "
        "split_dmv_sofroniou_spaletta10, "
        "lagrange_split, lagrange_split_yoshida4, lagrange_split_kahan_li6, lagrange_split_kahan_li8, "
-       "lagrange_split_sofroniou_spaletta10)"},
+       "lagrange_split_sofroniou_spaletta10, exact)"},
       // ---- missing required keys ----
       {"missing_problem",
        edit(h, h.substr(h.find("  \"problem\""), h.find("  \"initial\"") - h.find("  \"problem\"")), ""),
@@ -486,10 +486,10 @@ std::vector<Case> cases() {
        "lgvi_kahan_li6, lgvi_yoshida8, lgvi_kahan_li8, lgvi_sofroniou_spaletta10, split_dmv_yoshida4, "
        "split_dmv_suzuki4, split_dmv_kahan_li6, split_dmv_kahan_li8, split_dmv_sofroniou_spaletta10, "
        "lagrange_split, lagrange_split_yoshida4, lagrange_split_kahan_li6, lagrange_split_kahan_li8, "
-       "lagrange_split_sofroniou_spaletta10)"},
+       "lagrange_split_sofroniou_spaletta10, exact)"},
       {"method_in_capitals", edit(h, "\"lgvi\"", "\"LGVI\""),
        "lgi: error: {file}: /integrator/method: unknown method \"LGVI\"; did you mean \"lgvi\"? (`lgi list` shows "
-       "all 47)"},
+       "all 48)"},
       {"problem_misspelt", edit(h, "\"heavy_top\"", "\"heavytop\""),
        "lgi: error: {file}: /problem/type: unknown problem type \"heavytop\"; did you mean \"heavy_top\"? (known: "
        "free_body, heavy_top, lagrange_top, kovalevskaya_top, satellite, potential, rigid_body, gyrostat, "
