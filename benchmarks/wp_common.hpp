@@ -88,7 +88,8 @@ struct Method {
   std::string name;
   std::string library;  // "lgi", "boost_odeint", "gsl", "sundials"
   std::string description;
-  int order = 0;  // on this case's problem
+  int order = 0;  // on this case's problem (0: the exact solution, or a variable order)
+  bool exact_solution = false;  // lgi's `exact`: no truncation error
   bool adaptive = false;
   bool symplectic = false;
   bool projected = false;  // lgi: the invariant projection after every step (integrators/projection.hpp)

@@ -111,6 +111,7 @@ Method engine_method(const Case& c, const std::shared_ptr<const lgi::app::Scene>
   m.library = "lgi";
   m.description = std::string(t.title);
   m.order = c.kind == Kind::free_body && t.free_body_order > 0 ? t.free_body_order : t.order;
+  m.exact_solution = t.exact_solution;
   m.adaptive = adaptive;
   m.symplectic = t.symplectic;
   m.make = [scene, info, projected, adaptive](const Case& k, std::span<const double> times,
@@ -122,8 +123,10 @@ Method engine_method(const Case& c, const std::shared_ptr<const lgi::app::Scene>
 
 }  // namespace
 
-// The methods of the cases, in the order of the report. Free bodies: split_exact is left out (on a free body it is
-// the exact solution, the same code as the reference), and the preprocessed DMV (split_dmv4 … 10, order 2 with a
+// The methods of the cases, in the order of the report. Free bodies: `exact` (the exact solution, its constants in
+// double; the reference evaluates the same formulas with long-double constants, cross-checked against an
+// independent integration: wp_reference.cpp) runs first; split_exact is left out (on a free body it is the exact
+// solution again, evaluated step by step), and the preprocessed DMV (split_dmv4 … 10, order 2 with a
 // torque) runs there only. A lagrange_top case runs the heavy top's methods (its scene's engine runs them on the
 // same body as a heavy top with z0 = e3) and lagrange_split with its compositions.
 std::vector<Method> lgi_methods(const Case& c) {
@@ -133,6 +136,7 @@ std::vector<Method> lgi_methods(const Case& c) {
   const auto add = [&](std::string_view name, bool projected = false, bool adaptive = false) {
     m.push_back(engine_method(c, scene, name, projected, adaptive));
   };
+  if (free) add("exact");
   add("lgvi");
   add("split_dmv");
   add("split_axes");
