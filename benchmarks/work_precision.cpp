@@ -489,6 +489,12 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
   json jr = reference_json(c, ref);
   jr["from_cache"] = ref.from_cache;
   jc["reference"] = jr;
+  {  // the peers' right-hand side alone: ns a call, median and quartiles of 21 batches of 2e5 calls
+    std::vector<double> s = peer_rhs_seconds(c, o.smoke ? 3 : 21, o.smoke ? 20000 : 200000);
+    std::sort(s.begin(), s.end());
+    const auto q = [&](double f) { return 1e9 * s[static_cast<std::size_t>(f * static_cast<double>(s.size() - 1) + 0.5)]; };
+    jc["peer_rhs_ns"] = {{"median", q(0.5)}, {"q1", q(0.25)}, {"q3", q(0.75)}, {"batches", s.size()}};
+  }
   json jm = json::array();
   std::map<std::string, std::map<double, TimeAt>> t_at;
   for (const MethodRun& r : runs) {

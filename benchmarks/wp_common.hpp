@@ -103,6 +103,8 @@ std::vector<Method> peer_methods(const Case& c);
 std::vector<std::pair<std::string, std::string>> peer_versions();
 // Largest relative difference between the peers' analytic Jacobian (GSL rk4imp) and central differences.
 double jacobian_check(const Case& c);
+// Seconds per call of the peers' right-hand side, one value per batch of `calls` calls (wp_peers.cpp).
+std::vector<double> peer_rhs_seconds(const Case& c, int batches, long calls);
 
 // The reference at the evaluation time (wp_reference.cpp). Free bodies: the exact solution
 // (problems/free_body_exact.hpp, long double inside), cross-checked against the integration below. Tops: an

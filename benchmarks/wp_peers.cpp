@@ -6,7 +6,9 @@
 // error), Π = JΩ the body momentum. With Ω = J⁻¹Π (diagonal J: three products) and Γ = R(q)ᵀk =
 // k − 2s v×k + 2 v×(v×k) (exact for |q| = 1),
 //     s' = −½ v·Ω,   v' = ½ (sΩ + v×Ω),   Π' = Π × Ω + b Γ × z0           (b = 0: no torque term).
-// About 60 flops with a torque, 35 without: the least a user would write for this body. GSL's implicit
+// About 60 flops with a torque, 35 without, written as scalar code (the form a competent user writes: no small-vector
+// temporaries; an Eigen Vec3 form of the same equations compiled to shuffles and unaligned loads and cost about twice
+// as much a call, measured in the issue that asked for this). peer_rhs_cost() times it for the suite's report. GSL's implicit
 // rk4imp also gets the exact Jacobian (jacobian() below, checked against central differences by the smoke
 // run's --check-jacobian).
 //
@@ -23,6 +25,7 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <ctime>
 #include <cmath>
 #include <functional>
 #include <stdexcept>
@@ -54,10 +57,18 @@ struct Rhs {
   Mat3 J, Ji;
   double b = 0;
   Vec3 k, z0;
+  // The same as plain scalars for operator(): J⁻¹ row by row (diagonal: its diagonal), b k and z0.
+  double i00, i01, i02, i10, i11, i12, i20, i21, i22;
+  double k1, k2, k3, z1, z2, z3;
 
   explicit Rhs(const Body& body)
       : diagonal(body.J.isDiagonal(0.0)), torque(body.torque()), Jd(body.J.diagonal()), Jid(Jd.cwiseInverse()),
-        J(body.J), Ji(body.J.inverse()), b(body.b), k(body.k), z0(body.z0) {}
+        J(body.J), Ji(body.J.inverse()), b(body.b), k(body.k), z0(body.z0) {
+    const Mat3 A = diagonal ? Mat3(Jid.asDiagonal()) : Ji;
+    i00 = A(0, 0), i01 = A(0, 1), i02 = A(0, 2), i10 = A(1, 0), i11 = A(1, 1), i12 = A(1, 2), i20 = A(2, 0),
+    i21 = A(2, 1), i22 = A(2, 2);
+    k1 = k.x(), k2 = k.y(), k3 = k.z(), z1 = z0.x(), z2 = z0.y(), z3 = z0.z();
+  }
 
   Vec3 omega(const double* y) const {
     const Vec3 Pi(y[4], y[5], y[6]);
@@ -65,19 +76,31 @@ struct Rhs {
   }
 
   void operator()(const double* y, double* d) const {
-    const double s = y[0];
-    const Vec3 v(y[1], y[2], y[3]), Pi(y[4], y[5], y[6]);
-    const Vec3 W = omega(y);
-    d[0] = -0.5 * v.dot(W);
-    const Vec3 dv = 0.5 * (s * W + v.cross(W));
-    Vec3 dPi = Pi.cross(W);
-    if (torque) {
-      const Vec3 vk = v.cross(k);
-      const Vec3 Gamma = k - 2 * s * vk + 2 * v.cross(vk);
-      dPi += b * Gamma.cross(z0);
+    const double s = y[0], v1 = y[1], v2 = y[2], v3 = y[3], p1 = y[4], p2 = y[5], p3 = y[6];
+    double w1, w2, w3;  // Ω = J⁻¹Π
+    if (diagonal) {
+      w1 = i00 * p1, w2 = i11 * p2, w3 = i22 * p3;
+    } else {
+      w1 = i00 * p1 + i01 * p2 + i02 * p3;
+      w2 = i10 * p1 + i11 * p2 + i12 * p3;
+      w3 = i20 * p1 + i21 * p2 + i22 * p3;
     }
-    d[1] = dv.x(), d[2] = dv.y(), d[3] = dv.z();
-    d[4] = dPi.x(), d[5] = dPi.y(), d[6] = dPi.z();
+    d[0] = -0.5 * (v1 * w1 + v2 * w2 + v3 * w3);
+    d[1] = 0.5 * (s * w1 + (v2 * w3 - v3 * w2));
+    d[2] = 0.5 * (s * w2 + (v3 * w1 - v1 * w3));
+    d[3] = 0.5 * (s * w3 + (v1 * w2 - v2 * w1));
+    double e1 = p2 * w3 - p3 * w2, e2 = p3 * w1 - p1 * w3, e3 = p1 * w2 - p2 * w1;  // Π × Ω
+    if (torque) {
+      const double a1 = v2 * k3 - v3 * k2, a2 = v3 * k1 - v1 * k3, a3 = v1 * k2 - v2 * k1;  // v × k
+      // Γ = k − 2s (v × k) + 2 v × (v × k)
+      const double g1 = k1 - 2 * s * a1 + 2 * (v2 * a3 - v3 * a2);
+      const double g2 = k2 - 2 * s * a2 + 2 * (v3 * a1 - v1 * a3);
+      const double g3 = k3 - 2 * s * a3 + 2 * (v1 * a2 - v2 * a1);
+      e1 += b * (g2 * z3 - g3 * z2);
+      e2 += b * (g3 * z1 - g1 * z3);
+      e3 += b * (g1 * z2 - g2 * z1);
+    }
+    d[4] = e1, d[5] = e2, d[6] = e3;
   }
   void operator()(const Y& y, Y& d, double /*t*/) const { (*this)(y.data(), d.data()); }
 
@@ -459,6 +482,34 @@ double jacobian_check(const Case& c) {
     }
   }
   return worst;
+}
+
+// The peers' right-hand side alone: `batches` batches of `calls` calls at the case's initial state through a function
+// pointer the compiler cannot see through (GSL and SUNDIALS call it so; Boost.Odeint inlines it), thread CPU time,
+// seconds per call of each batch.
+namespace {
+void call_rhs(const Rhs& f, const double* y, double* d) { f(y, d); }
+double thread_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+}  // namespace
+
+std::vector<double> peer_rhs_seconds(const Case& c, int batches, long calls) {
+  const Rhs f(c.body);
+  Y y = initial_y(c), d{};
+  void (*volatile fn)(const Rhs&, const double*, double*) = call_rhs;
+  std::vector<double> out;
+  for (int b = 0; b < batches; ++b) {
+    const double t0 = thread_seconds();
+    for (long i = 0; i < calls; ++i) {
+      fn(f, y.data(), d.data());
+      asm volatile("" : : "r"(d.data()), "r"(y.data()) : "memory");
+    }
+    out.push_back((thread_seconds() - t0) / static_cast<double>(calls));
+  }
+  return out;
 }
 
 }  // namespace wp

@@ -226,6 +226,11 @@ def main():
               ref["guard"]["perturbation"], fmt_e(ref["guard"]["divergence"][-1]),
               fmt_e(ref["guard"]["amplification_at_t_end"])))
         w("")
+        if c.get("peer_rhs_ns"):
+            r = c["peer_rhs_ns"]
+            w("The peers' right-hand side (scalar code, called through a function pointer): %.1f ns a call, quartiles "
+              "%.1f–%.1f ns over %d batches." % (r["median"], r["q1"], r["q3"], r["batches"]))
+            w("")
         w("![work-precision %s](img/%s)" % (c["name"], png))
         w("")
         w("| method | library | order | t(1e-6) | t(1e-8) | t(1e-10) | t(1e-12) | best error | status |")
