@@ -24,12 +24,13 @@
 //     round-off plateau; then --reps passes time every point, methods interleaved (the order rotates per
 //     pass); the reported time is the median of the passes;
 //   - error at T: |log(R_refᵀR)| + |Ω − Ω_ref| (wp_common.hpp) against the reference (wp_reference.cpp);
-//     points within 10× of the reference's error bar are marked and not used;
+//     points within 10× of the reference's error bar are marked and used only as upper bounds (below);
 //   - t(ε) for ε = 1e-6, 1e-8, 1e-10, 1e-12: on each method's Pareto front (time increasing, error decreasing),
 //     log-log interpolation between the two points that bracket ε (none when ε is not reached; the cheapest
 //     point's time when even it is below ε, flagged as an upper bound; likewise the cheapest point below the
 //     reference's resolution, for ε ≥ 11 × its error bar). Per case: the fastest lgi method,
-//     the fastest peer, their ratio lgi/peer (> 1: the peer wins).
+//     the fastest peer, their ratio lgi/peer (> 1: the peer wins), and its spread: the same ratio within each
+//     timed pass (both methods' t(ε) from that pass's times), its quartiles over the passes (--reps, default 21).
 //   - long horizon (hv_free_body, hv_heavy_top; T = --long-t, default 1e5): lgi's symplectic and projected methods at
 //     fixed steps, and for each of them the peers tuned to its CPU time (their tolerance from probe runs over
 //     T/100, extrapolated linearly in T); relative energy error, momentum (m·k; free body: m), the
@@ -88,7 +89,7 @@ struct Options {
   std::string cases = std::string(LGI_SOURCE_DIR) + "/scenes/bench";
   std::string refs = std::string(LGI_SOURCE_DIR) + "/benchmarks/ref";
   std::vector<std::string> only;
-  int reps = 5;
+  int reps = 21;
   double max_run = 0.1;     // seconds: longest single run in a sweep
   double min_batch = 2e-3;  // seconds: shortest timed batch
   int max_points = 24;
@@ -420,32 +421,38 @@ struct TimeAt {
 // A point below the reference's resolution (error < 10 × its bar) is within 11 × the bar of the truth, so for
 // ε ≥ 11 × the bar the cheapest such point bounds t(ε) from above (flagged) where it is cheaper than the front's t(ε)
 // or the front has none: the exact solution's points, at round-off, are all of this kind.
-TimeAt below_reference_bound(const MethodRun& r, double eps, double bar, TimeAt t) {
+// A point's time: the median of its passes (pass < 0), or its time in one pass (its median if it has no such sample).
+double point_seconds(const Point& p, int pass) {
+  return pass >= 0 && static_cast<std::size_t>(pass) < p.samples.size() ? p.samples[static_cast<std::size_t>(pass)]
+                                                                         : p.seconds();
+}
+TimeAt below_reference_bound(const MethodRun& r, double eps, double bar, TimeAt t, int pass) {
   if (!(eps >= 11 * bar)) return t;
   for (const Point& p : r.points)
-    if (p.ok && p.below_reference && !(p.seconds() >= t.seconds)) t = {p.seconds(), true};
+    if (p.ok && p.below_reference && !(point_seconds(p, pass) >= t.seconds)) t = {point_seconds(p, pass), true};
   return t;
 }
-TimeAt time_at(const MethodRun& r, double eps, double bar) {
+// t(ε) from the points' medians (pass < 0) or from their times in one timed pass.
+TimeAt time_at(const MethodRun& r, double eps, double bar, int pass = -1) {
   std::vector<std::pair<double, double>> pts;  // (seconds, error)
   for (const Point& p : r.points)
-    if (p.ok && !p.below_reference && p.error > 0) pts.emplace_back(p.seconds(), p.error);
+    if (p.ok && !p.below_reference && p.error > 0) pts.emplace_back(point_seconds(p, pass), p.error);
   std::sort(pts.begin(), pts.end());
   std::vector<std::pair<double, double>> front;
   for (const auto& q : pts)
     if (front.empty() || q.second < front.back().second) front.push_back(q);
   TimeAt t;
-  if (front.empty()) return below_reference_bound(r, eps, bar, t);
-  if (front.front().second <= eps) return below_reference_bound(r, eps, bar, {front.front().first, true});
+  if (front.empty()) return below_reference_bound(r, eps, bar, t, pass);
+  if (front.front().second <= eps) return below_reference_bound(r, eps, bar, {front.front().first, true}, pass);
   for (std::size_t i = 1; i < front.size(); ++i) {
     const auto& [t0, e0] = front[i - 1];
     const auto& [t1, e1] = front[i];
     if (e1 <= eps) {
       const double s = (std::log(eps) - std::log(e0)) / (std::log(e1) - std::log(e0));
-      return below_reference_bound(r, eps, bar, {std::exp(std::log(t0) + s * (std::log(t1) - std::log(t0))), false});
+      return below_reference_bound(r, eps, bar, {std::exp(std::log(t0) + s * (std::log(t1) - std::log(t0))), false}, pass);
     }
   }
-  return below_reference_bound(r, eps, bar, t);
+  return below_reference_bound(r, eps, bar, t, pass);
 }
 
 std::string eps_key(double eps) {
@@ -567,6 +574,29 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
     s["peer_seconds"] = std::isfinite(peer_t) ? json(peer_t) : json(nullptr);
     const double ratio = lgi_t / peer_t;
     s["ratio_lgi_over_peer"] = std::isfinite(ratio) ? json(ratio) : json(nullptr);
+    // The spread: the ratio of the two methods' t(ε) within each timed pass (the methods are interleaved, so a pass
+    // sees both in the same minutes of the machine), its quartiles over the passes.
+    if (!lgi_best.empty() && !peer_best.empty()) {
+      const auto run_of = [&](const std::string& name) -> const MethodRun& {
+        return *std::find_if(runs.begin(), runs.end(), [&](const MethodRun& r) { return r.method.name == name; });
+      };
+      const MethodRun &a = run_of(lgi_best), &b = run_of(peer_best);
+      std::vector<double> per_pass;
+      for (int pass = 0; pass < o.reps; ++pass) {
+        const double q = time_at(a, eps, ref.error_bar, pass).seconds / time_at(b, eps, ref.error_bar, pass).seconds;
+        if (std::isfinite(q)) per_pass.push_back(q);
+      }
+      if (!per_pass.empty()) {
+        std::sort(per_pass.begin(), per_pass.end());
+        const auto quantile = [&](double f) {
+          return per_pass[static_cast<std::size_t>(f * static_cast<double>(per_pass.size() - 1) + 0.5)];
+        };
+        s["ratio_passes"] = per_pass.size();
+        s["ratio_q1"] = quantile(0.25);
+        s["ratio_q3"] = quantile(0.75);
+        s["peer_wins_passes"] = std::count_if(per_pass.begin(), per_pass.end(), [](double q) { return q > 1; });
+      }
+    }
     s["peer_wins"] = std::isfinite(ratio) ? json(ratio > 1) : json(nullptr);
     summary[eps_key(eps)] = s;
   }
