@@ -79,6 +79,7 @@ struct RunCommandOptions {
   std::string scene_file, output, checkpoint, checkpoint_every, resume;
   bool quiet = false;
   bool progress = false;  // --progress: progress lines also when stderr is not a terminal
+  bool error_estimate = false;  // --error-estimate: a second run estimates the error at t_end (runner.hpp)
 };
 
 // --checkpoint-every: "N" steps or "S s" seconds of wall time (e.g. 1000000, 30s, 0.5s).
@@ -363,6 +364,8 @@ int run_command(const RunCommandOptions& cmd) {
                                    out->temp_path());
   }
   if (!cmd.quiet) std::fputs(lgi::app::brief_report(scene, report).c_str(), stderr);
+  if (!cmd.quiet && cmd.error_estimate)
+    std::fputs(lgi::app::error_estimate_line(lgi::app::estimate_error(scene, report), report).c_str(), stderr);
 
   if (s.status == lgi::RunStatus::completed) {
     if (!checkpoint.empty()) {  // the run is complete: nothing to resume; remove only what this run wrote
@@ -532,6 +535,8 @@ int main(int argc, char** argv) {
                   "Write the CSV to FILE (a temporary file renamed into place at the end; an incomplete run's rows too, "
                   "with a non-zero exit status)");
   run->add_flag("-q,--quiet", run_options.quiet, "No summary and no progress on stderr");
+  run->add_flag("--error-estimate", run_options.error_estimate,
+                "Estimate the error at t_end by a second run (fixed steps: 2 dt, Richardson; adaptive: tolerances / 1000)");
   run->add_flag("--progress", run_options.progress,
                 "Progress on stderr also when it is not a terminal (a line every 2 s; on a terminal it always shows)");
   run->add_option("--checkpoint", run_options.checkpoint,

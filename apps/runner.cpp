@@ -252,4 +252,80 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
   return s;
 }
 
+ErrorEstimate estimate_error(const Scene& scene, const RunReport& report) {
+  ErrorEstimate e;
+  e.t = report.summary.t;
+  const MethodTraits& m = scene.method->traits;
+  if (m.exact_solution) {
+    e.how = "none needed: the exact solution (round-off only)";
+    return e;
+  }
+  if (report.summary.status != RunStatus::completed) {
+    e.how = "not available: the run did not complete";
+    return e;
+  }
+  Scene second = scene;
+  second.output_times.clear();
+  second.output_every = 0;
+  second.columns.clear();
+  double factor = 0;  // err(x) ≈ factor · |x − x_second|
+  char buf[160];
+  if (scene.options.rtol > 0) {
+    second.options.rtol = std::max(scene.options.rtol / 1000, min_rtol);
+    second.options.atol = scene.options.atol / 1000;
+    if (!(second.options.rtol < scene.options.rtol / 10)) {
+      e.how = "not available: rtol is within 100x of its floor 10 eps";
+      return e;
+    }
+    factor = 1;
+    std::snprintf(buf, sizeof buf, "against rtol = %s, atol = %s", format_number(second.options.rtol).c_str(),
+                  format_number(second.options.atol).c_str());
+  } else {
+    const int p = scene.problem->torque_free() && m.free_body_order > 0 ? m.free_body_order : m.order;
+    const double q = std::ldexp(1.0, p);  // 2^p
+    if (2 * scene.dt <= scene.t_end) {
+      second.dt = 2 * scene.dt;
+      factor = 1 / (q - 1);
+    } else {
+      second.dt = scene.dt / 2;
+      factor = q / (q - 1);
+    }
+    std::snprintf(buf, sizeof buf, "Richardson with dt = %s (order %d)", format_number(second.dt).c_str(), p);
+  }
+  second.max_steps = 0;  // the comparison runs to t_end (its budget is the run's own wall-time limit)
+  RunReport r = run_scene(second, RunOptions{});
+  e.seconds = r.wall_seconds;
+  if (r.summary.status != RunStatus::completed && scene.options.rtol == 0 && second.dt > scene.dt) {
+    // 2·dt beyond the method's step limit (an implicit step that does not converge): dt/2 instead.
+    const int p = scene.problem->torque_free() && m.free_body_order > 0 ? m.free_body_order : m.order;
+    const double q = std::ldexp(1.0, p);
+    second.dt = scene.dt / 2;
+    factor = q / (q - 1);
+    std::snprintf(buf, sizeof buf, "Richardson with dt = %s (order %d; 2 dt failed)", format_number(second.dt).c_str(), p);
+    r = run_scene(second, RunOptions{});
+    e.seconds += r.wall_seconds;
+  }
+  if (r.summary.status != RunStatus::completed || r.summary.t != report.summary.t) {
+    e.how = std::string("not available: the comparison run (") + buf + ") did not complete";
+    return e;
+  }
+  const State<double>& a = report.final_state;
+  const State<double>& b = r.final_state;
+  const double scale = std::max(a.Omega.norm(), std::numeric_limits<double>::min());
+  e.R = factor * so3::log(Mat3<double>(b.R.transpose() * a.R)).norm();
+  e.Omega = factor * (a.Omega - b.Omega).norm() / scale;
+  e.available = std::isfinite(e.R) && std::isfinite(e.Omega);
+  e.how = buf;
+  return e;
+}
+
+std::string error_estimate_line(const ErrorEstimate& e, const RunReport& report) {
+  if (!e.available) return "  estimated error  " + e.how + "\n";
+  char buf[320];
+  std::snprintf(buf, sizeof buf, "  estimated error  R %.1e rad, Omega %.1e (relative) at t = %s: %s, +%.3f s (%.2fx the run)\n",
+                e.R, e.Omega, format_number(e.t).c_str(), e.how.c_str(), e.seconds,
+                report.wall_seconds > 0 ? e.seconds / report.wall_seconds : 0.0);
+  return buf;
+}
+
 }  // namespace lgi::app

@@ -164,6 +164,30 @@ struct RunReport {
 
 RunReport run_scene(const Scene& scene, const RunOptions& options);
 
+// An estimate of the global error of a completed run at its last state (`lgi run --error-estimate`), from a second
+// run of the scene compared with it at the same time:
+//   fixed steps, a method of order p (free_body_order on torque-free problems): the run with 2·dt, Richardson's
+//     err(x_h) ≈ |x_h − x_2h| / (2^p − 1) (the second run costs about half the first); with dt/2 instead when 2·dt
+//     exceeds t_end or the run with 2·dt fails (a step beyond an implicit method's limit), err(x_h) ≈ |x_h − x_{h/2}|
+//     · 2^p / (2^p − 1);
+//   adaptive steps: the run with rtol and atol divided by 1000 (rtol not below 10 ε): err(x) ≈ |x − x_tight|.
+// |·| is measured as R's rotation angle |log(R_aᵀ R_b)| (radians) and |Ω_a − Ω_b| / |Ω_b|. Assumes the asymptotic
+// regime of the method (an error ∝ h^p, or a tight run ≫ more accurate): within a factor 10 of the true error on the
+// random tops of tests/cli/test_error_estimate.cpp. Not available for the exact solution (no truncation error), a run
+// that did not complete, or a comparison run that did not.
+struct ErrorEstimate {
+  bool available = false;
+  double R = 0;      // estimated error of the attitude at t, radians
+  double Omega = 0;  // estimated error of Ω at t, relative to |Ω|
+  double t = 0;      // the time compared (the run's last state)
+  std::string how;   // e.g. "Richardson with dt = 0.02 (order 4)"; when not available: why
+  double seconds = 0;  // the comparison run's wall time
+};
+ErrorEstimate estimate_error(const Scene& scene, const RunReport& report);
+// The summary's line for e (two spaces, "estimated error", the figures, how, and the comparison run's cost relative to
+// the run's wall time).
+std::string error_estimate_line(const ErrorEstimate& e, const RunReport& report);
+
 // The few lines `lgi run` prints on stderr: method, steps, energy error, orthogonality, wall time.
 std::string brief_report(const Scene& scene, const RunReport& report);
 

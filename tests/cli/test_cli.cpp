@@ -341,6 +341,23 @@ TEST_F(Cli, SummarySaysAdaptiveAndProjected) {
   EXPECT_EQ(r.err.find("projected"), std::string::npos) << r.err;
 }
 
+// --error-estimate adds one summary line (runner.hpp, estimate_error; measured against true errors in
+// test_error_estimate.cpp): for fixed steps the Richardson comparison with 2 dt, and the rows are those of a run
+// without it.
+TEST_F(Cli, ErrorEstimateAddsOneLineAndChangesNoRow) {
+  const fs::path file = write("estimate.json", std::string(SceneText{
+      .integrator = R"("integrator": {"method": "rkmk4", "dt": 0.01})", .rest = R"("t_end": 5.0, "output": {"every": 100})"}));
+  const Result plain = lgi("run " + file.string());
+  const Result r = lgi("run --error-estimate " + file.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, plain.out);
+  EXPECT_NE(r.err.find("  estimated error  R "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("Richardson with dt = 0.02 (order 4)"), std::string::npos) << r.err;
+  EXPECT_EQ(plain.err.find("estimated error"), std::string::npos) << plain.err;
+  const Result q = lgi("run -q --error-estimate " + file.string());
+  EXPECT_EQ(q.err, "");
+}
+
 // Every attitude form — a quaternion of either sign, axis and angle (the axis of any length), z-x-z and z-y-x Euler
 // angles in radians and degrees, with omega or with Euler-angle rates — gives the first row of the equivalent R and
 // omega, to the rounding of the conversions (R = Rx(30°), Ω = (5, 0.2, 0.1): the rates below are chosen so).
