@@ -365,7 +365,9 @@ int run_command(const RunCommandOptions& cmd) {
   }
   if (!cmd.quiet) std::fputs(lgi::app::brief_report(scene, report).c_str(), stderr);
   if (!cmd.quiet && cmd.error_estimate)
-    std::fputs(lgi::app::error_estimate_line(lgi::app::estimate_error(scene, report), report).c_str(), stderr);
+    std::fputs(lgi::app::error_estimate_line(lgi::app::estimate_error(scene, report, &g_signal), report).c_str(), stderr);
+  if (g_signal != 0 && s.status == lgi::RunStatus::completed)  // interrupted during the estimate: the rows are whole
+    return fail(128 + g_signal, name + ": interrupted during the error estimate (the run completed and its output is written)");
 
   if (s.status == lgi::RunStatus::completed) {
     if (!checkpoint.empty()) {  // the run is complete: nothing to resume; remove only what this run wrote

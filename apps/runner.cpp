@@ -252,7 +252,7 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
   return s;
 }
 
-ErrorEstimate estimate_error(const Scene& scene, const RunReport& report) {
+ErrorEstimate estimate_error(const Scene& scene, const RunReport& report, const volatile std::sig_atomic_t* stop) {
   ErrorEstimate e;
   e.t = report.summary.t;
   const MethodTraits& m = scene.method->traits;
@@ -274,7 +274,7 @@ ErrorEstimate estimate_error(const Scene& scene, const RunReport& report) {
     second.options.rtol = std::max(scene.options.rtol / 1000, min_rtol);
     second.options.atol = scene.options.atol / 1000;
     if (!(second.options.rtol < scene.options.rtol / 10)) {
-      e.how = "not available: rtol is within 100x of its floor 10 eps";
+      e.how = "not available: rtol is within 10x of its floor 10 eps";
       return e;
     }
     factor = 1;
@@ -282,6 +282,10 @@ ErrorEstimate estimate_error(const Scene& scene, const RunReport& report) {
                   format_number(second.options.atol).c_str());
   } else {
     const int p = scene.problem->torque_free() && m.free_body_order > 0 ? m.free_body_order : m.order;
+    if (p < 1) {
+      e.how = "not available: the method declares no order";
+      return e;
+    }
     const double q = std::ldexp(1.0, p);  // 2^p
     if (2 * scene.dt <= scene.t_end) {
       second.dt = 2 * scene.dt;
@@ -293,16 +297,18 @@ ErrorEstimate estimate_error(const Scene& scene, const RunReport& report) {
     std::snprintf(buf, sizeof buf, "Richardson with dt = %s (order %d)", format_number(second.dt).c_str(), p);
   }
   second.max_steps = 0;  // the comparison runs to t_end (its budget is the run's own wall-time limit)
-  RunReport r = run_scene(second, RunOptions{});
+  RunOptions options;
+  options.stop = stop;
+  RunReport r = run_scene(second, options);
   e.seconds = r.wall_seconds;
-  if (r.summary.status != RunStatus::completed && scene.options.rtol == 0 && second.dt > scene.dt) {
+  if (r.summary.status == RunStatus::step_failed && scene.options.rtol == 0 && second.dt > scene.dt) {
     // 2·dt beyond the method's step limit (an implicit step that does not converge): dt/2 instead.
     const int p = scene.problem->torque_free() && m.free_body_order > 0 ? m.free_body_order : m.order;
     const double q = std::ldexp(1.0, p);
     second.dt = scene.dt / 2;
     factor = q / (q - 1);
     std::snprintf(buf, sizeof buf, "Richardson with dt = %s (order %d; 2 dt failed)", format_number(second.dt).c_str(), p);
-    r = run_scene(second, RunOptions{});
+    r = run_scene(second, options);
     e.seconds += r.wall_seconds;
   }
   if (r.summary.status != RunStatus::completed || r.summary.t != report.summary.t) {

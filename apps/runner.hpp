@@ -171,7 +171,7 @@ RunReport run_scene(const Scene& scene, const RunOptions& options);
 //     exceeds t_end or the run with 2·dt fails (a step beyond an implicit method's limit), err(x_h) ≈ |x_h − x_{h/2}|
 //     · 2^p / (2^p − 1);
 //   adaptive steps: the run with rtol and atol divided by 1000 (rtol not below 10 ε): err(x) ≈ |x − x_tight|.
-// |·| is measured as R's rotation angle |log(R_aᵀ R_b)| (radians) and |Ω_a − Ω_b| / |Ω_b|. Assumes the asymptotic
+// |·| is measured as R's rotation angle |log(R_bᵀ R_a)| (radians) and |Ω_a − Ω_b| / |Ω_a|, a the run's state. Assumes the asymptotic
 // regime of the method (an error ∝ h^p, or a tight run ≫ more accurate): within a factor 10 of the true error on the
 // random tops of tests/cli/test_error_estimate.cpp. Not available for the exact solution (no truncation error), a run
 // that did not complete, or a comparison run that did not.
@@ -183,7 +183,9 @@ struct ErrorEstimate {
   std::string how;   // e.g. "Richardson with dt = 0.02 (order 4)"; when not available: why
   double seconds = 0;  // the comparison run's wall time
 };
-ErrorEstimate estimate_error(const Scene& scene, const RunReport& report);
+// `stop`: the comparison run stops when *stop becomes non-zero (then not available).
+ErrorEstimate estimate_error(const Scene& scene, const RunReport& report,
+                             const volatile std::sig_atomic_t* stop = nullptr);
 // The summary's line for e (two spaces, "estimated error", the figures, how, and the comparison run's cost relative to
 // the run's wall time).
 std::string error_estimate_line(const ErrorEstimate& e, const RunReport& report);

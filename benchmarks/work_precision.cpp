@@ -301,7 +301,9 @@ bool time_sample(Trial& t, int inner, double& seconds) {
   return ok;
 }
 
+// Of the finite values (a failed pass leaves NaN in its slot).
 double median(std::vector<double> v) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
   if (v.empty()) return nan;
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
@@ -421,22 +423,25 @@ struct TimeAt {
 // A point below the reference's resolution (error < 10 × its bar) is within 11 × the bar of the truth, so for
 // ε ≥ 11 × the bar the cheapest such point bounds t(ε) from above (flagged) where it is cheaper than the front's t(ε)
 // or the front has none: the exact solution's points, at round-off, are all of this kind.
-// A point's time: the median of its passes (pass < 0), or its time in one pass (its median if it has no such sample).
+// A point's time: the median of its passes (pass < 0), or its time in that pass (NaN where that pass failed: the
+// pass then gives no ratio).
 double point_seconds(const Point& p, int pass) {
-  return pass >= 0 && static_cast<std::size_t>(pass) < p.samples.size() ? p.samples[static_cast<std::size_t>(pass)]
-                                                                         : p.seconds();
+  if (pass < 0) return p.seconds();
+  return static_cast<std::size_t>(pass) < p.samples.size() ? p.samples[static_cast<std::size_t>(pass)] : nan;
 }
 TimeAt below_reference_bound(const MethodRun& r, double eps, double bar, TimeAt t, int pass) {
   if (!(eps >= 11 * bar)) return t;
   for (const Point& p : r.points)
-    if (p.ok && p.below_reference && !(point_seconds(p, pass) >= t.seconds)) t = {point_seconds(p, pass), true};
+    if (p.ok && p.below_reference && std::isfinite(point_seconds(p, pass)) && !(point_seconds(p, pass) >= t.seconds))
+      t = {point_seconds(p, pass), true};
   return t;
 }
 // t(ε) from the points' medians (pass < 0) or from their times in one timed pass.
 TimeAt time_at(const MethodRun& r, double eps, double bar, int pass = -1) {
   std::vector<std::pair<double, double>> pts;  // (seconds, error)
   for (const Point& p : r.points)
-    if (p.ok && !p.below_reference && p.error > 0) pts.emplace_back(point_seconds(p, pass), p.error);
+    if (p.ok && !p.below_reference && p.error > 0 && std::isfinite(point_seconds(p, pass)))
+      pts.emplace_back(point_seconds(p, pass), p.error);
   std::sort(pts.begin(), pts.end());
   std::vector<std::pair<double, double>> front;
   for (const auto& q : pts)
@@ -482,7 +487,7 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
       for (Point& p : r.points) {
         if (!p.ok) continue;
         double s = nan;
-        if (time_sample(*p.trial, p.inner, s)) p.samples.push_back(s);
+        p.samples.push_back(time_sample(*p.trial, p.inner, s) ? s : nan);  // one slot per pass
       }
     }
   }

@@ -17,7 +17,7 @@
 /// evaluation are in double (FreeBodyExact<T, T>): their relative rounding, a few ε, becomes a phase error that
 /// grows linearly in t — the same growth as the state's own sensitivity to its initial data, so the error
 /// stays a few ε × that sensitivity at any t (measured against the same formulas in 113-bit arithmetic for
-/// t = 10 … 10⁴: tests/integrators/test_exact.cpp, docs/free_body_exact.md). Preserves what the flow does: R
+/// t = 10 … 10⁴: tests/problems/test_free_body_exact.cpp, ExactMethod.*; docs/free_body_exact.md). Preserves what the flow does: R
 /// on SO(3) to round-off, the energy, |JΩ| and the spatial momentum R J Ω to round-off at every t, without
 /// growth or drift (each state is computed from x0, not from the previous one); symplectic and symmetric as
 /// the flow itself.
@@ -34,6 +34,7 @@
 #include "../core/state_io.hpp"
 #include "../problems/free_body_exact.hpp"
 
+#include <cstring>
 #include <type_traits>
 
 namespace lgi {
@@ -77,8 +78,12 @@ class ExactFreeBody {
     options.check();
   }
 
-  /// x as the initial state at t (and as the current state).
-  Internal to_internal(const State<Scalar>& x, const Scalar& t) const { return {x.R, x.Omega, t, x.R, x.Omega}; }
+  /// x as the initial state at t (and as the current state). The next step solves the motion anew (a state set from
+  /// outside starts a run: its solve belongs to it, also in timings).
+  Internal to_internal(const State<Scalar>& x, const Scalar& t) const {
+    solved_ = false;
+    return {x.R, x.Omega, t, x.R, x.Omega};
+  }
   /// The current state of y.
   State<Scalar> to_state(const Internal& y) const { return {y.R, y.Omega}; }
 
@@ -86,7 +91,9 @@ class ExactFreeBody {
   /// finite. Solves the motion when y's initial state is not the one solved last (the first step; a state set from
   /// outside), then one evaluation; allocates nothing. The result depends on (y, t, h) only.
   StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
-    if (!solved_ || !(y.R0 == R0_) || !(y.Omega0 == Omega0_)) {
+    // The cache's key compared bit for bit (−0 and +0 differ; a NaN never matches, and is solved again).
+    if (!solved_ || std::memcmp(y.R0.data(), R0_.data(), sizeof(R0_)) != 0 ||
+        std::memcmp(y.Omega0.data(), Omega0_.data(), sizeof(Omega0_)) != 0) {
       solution_ = exact_.solve(State<Scalar>{y.R0, y.Omega0});
       solution_.precompute_periods();
       R0_ = y.R0;
@@ -111,7 +118,7 @@ class ExactFreeBody {
   typename Exact::Solution solution_{};
   Mat3<Scalar> R0_ = Mat3<Scalar>::Zero();
   Vec3<Scalar> Omega0_ = Vec3<Scalar>::Zero();
-  bool solved_ = false;
+  mutable bool solved_ = false;  // to_internal clears it: a new run solves anew
 };
 
 }  // namespace lgi
