@@ -202,13 +202,20 @@ std::vector<double> state_columns(const Scene& scene, double t, const State<doub
   return c;
 }
 
+namespace {
+// The order the method declares for this scene's problem: a method of higher order without torque (preprocessed DMV)
+// has that order on a torque-free problem.
+int declared_order(const Scene& scene) {
+  const MethodTraits& m = scene.method->traits;
+  return scene.problem->torque_free() && m.free_body_order > 0 ? m.free_body_order : m.order;
+}
+}  // namespace
+
 std::string brief_report(const Scene& scene, const RunReport& r) {
   const MethodTraits& m = scene.method->traits;
   const std::string problem(scene.problem->type_name());
   const std::string coordinates = scene.problem->coordinates();  // a problem not on SO(3) × R³: its own path
-  // A method whose order is higher without torque (preprocessed DMV) shows that order on a torque-free problem.
-  const bool torque_free = scene.problem->torque_free();
-  const int order = torque_free && m.free_body_order > 0 ? m.free_body_order : m.order;
+  const int order = declared_order(scene);  // preprocessed DMV: its free-body order on a torque-free problem
   char buf[512];
   std::string s;
   // A forcing that reads Ω does work: the symplectic methods (the LGVI and its compositions) take it in the discrete
@@ -270,6 +277,14 @@ ErrorEstimate estimate_error(const Scene& scene, const RunReport& report, const 
   second.columns.clear();
   double factor = 0;  // err(x) ≈ factor · |x − x_second|
   char buf[160];
+  const int p = declared_order(scene);
+  const double q = std::ldexp(1.0, p);  // 2^p
+  // Richardson against dt/2: err(x_h) ≈ |x_h − x_{h/2}| · 2^p / (2^p − 1).
+  const auto half_step = [&](const char* why) {
+    second.dt = scene.dt / 2;
+    factor = q / (q - 1);
+    std::snprintf(buf, sizeof buf, "Richardson with dt = %s (order %d%s)", format_number(second.dt).c_str(), p, why);
+  };
   if (scene.options.rtol > 0) {
     second.options.rtol = std::max(scene.options.rtol / 1000, min_rtol);
     second.options.atol = scene.options.atol / 1000;
@@ -280,21 +295,15 @@ ErrorEstimate estimate_error(const Scene& scene, const RunReport& report, const 
     factor = 1;
     std::snprintf(buf, sizeof buf, "against rtol = %s, atol = %s", format_number(second.options.rtol).c_str(),
                   format_number(second.options.atol).c_str());
-  } else {
-    const int p = scene.problem->torque_free() && m.free_body_order > 0 ? m.free_body_order : m.order;
-    if (p < 1) {
-      e.how = "not available: the method declares no order";
-      return e;
-    }
-    const double q = std::ldexp(1.0, p);  // 2^p
-    if (2 * scene.dt <= scene.t_end) {
-      second.dt = 2 * scene.dt;
-      factor = 1 / (q - 1);
-    } else {
-      second.dt = scene.dt / 2;
-      factor = q / (q - 1);
-    }
+  } else if (p < 1) {
+    e.how = "not available: the method declares no order";
+    return e;
+  } else if (2 * scene.dt <= scene.t_end) {
+    second.dt = 2 * scene.dt;
+    factor = 1 / (q - 1);
     std::snprintf(buf, sizeof buf, "Richardson with dt = %s (order %d)", format_number(second.dt).c_str(), p);
+  } else {
+    half_step("");
   }
   second.max_steps = 0;  // the comparison runs to t_end (its budget is the run's own wall-time limit)
   RunOptions options;
@@ -302,12 +311,7 @@ ErrorEstimate estimate_error(const Scene& scene, const RunReport& report, const 
   RunReport r = run_scene(second, options);
   e.seconds = r.wall_seconds;
   if (r.summary.status == RunStatus::step_failed && scene.options.rtol == 0 && second.dt > scene.dt) {
-    // 2·dt beyond the method's step limit (an implicit step that does not converge): dt/2 instead.
-    const int p = scene.problem->torque_free() && m.free_body_order > 0 ? m.free_body_order : m.order;
-    const double q = std::ldexp(1.0, p);
-    second.dt = scene.dt / 2;
-    factor = q / (q - 1);
-    std::snprintf(buf, sizeof buf, "Richardson with dt = %s (order %d; 2 dt failed)", format_number(second.dt).c_str(), p);
+    half_step("; 2 dt failed");  // 2·dt beyond the method's step limit (an implicit step that does not converge)
     r = run_scene(second, options);
     e.seconds += r.wall_seconds;
   }
