@@ -23,6 +23,7 @@
 // Outputs that are not regular files (-o -, /dev/null, a FIFO) are streamed to and never replaced
 // (apps/output_file.hpp); --checkpoint never replaces or removes a file that is not this run's checkpoint.
 // lgi run is single-threaded: the same scene gives the same bytes on every run.
+#include "auto_method.hpp"
 #include "hashing.hpp"
 #include "plugin_loader.hpp"
 #include "registry.hpp"
@@ -80,6 +81,9 @@ struct RunCommandOptions {
   bool quiet = false;
   bool progress = false;  // --progress: progress lines also when stderr is not a terminal
   bool error_estimate = false;  // --error-estimate: a second run estimates the error at t_end (runner.hpp)
+  bool no_error_estimate = false;  // --no-error-estimate: none for "auto" either
+  double tol = 0;  // --tol: "method": "auto" with this tolerance in place of the scene's integrator
+  bool tol_given = false;
 };
 
 // --checkpoint-every: "N" steps or "S s" seconds of wall time (e.g. 1000000, 30s, 0.5s).
@@ -213,6 +217,13 @@ int run_command(const RunCommandOptions& cmd) {
   if (!resuming && !cmd.checkpoint.empty() && (cmd.output.empty() || lgi::app::is_streamed_path(cmd.output)))
     return fail(exit_bad_input, "--checkpoint needs -o FILE, a regular file: a checkpoint continues the rows of an output "
                                 "file");
+  if (cmd.tol_given && resuming)
+    return fail(exit_bad_input, "--tol applies to a SCENE: a resumed run continues with its own method");
+  if (cmd.tol_given && !(cmd.tol >= lgi::app::auto_min_tolerance && cmd.tol <= lgi::app::auto_max_tolerance))
+    return fail(exit_bad_input, "--tol: must be in [" + format_number(lgi::app::auto_min_tolerance) + ", " +
+                                    format_number(lgi::app::auto_max_tolerance) + "], got " + format_number(cmd.tol));
+  if (cmd.error_estimate && cmd.no_error_estimate)
+    return fail(exit_bad_input, "give --error-estimate or --no-error-estimate, not both");
   try {
     if (resuming) {
       resume = lgi::app::read_checkpoint(cmd.resume);
@@ -233,6 +244,18 @@ int run_command(const RunCommandOptions& cmd) {
       }
     } else {
       document = lgi::app::read_json_file(cmd.scene_file);
+      // --tol: the scene's integrator replaced by "auto" (recorded so in checkpoints: a resume chooses the same).
+      // Rows every N steps of the scene's dt become rows every N dt.
+      if (cmd.tol_given && document.is_object()) {
+        lgi::app::json& out = document["output"];
+        if (out.is_object() && out.contains("every") && out["every"].is_number() && document["integrator"].is_object() &&
+            document["integrator"].contains("dt") && document["integrator"]["dt"].is_number()) {
+          out["interval"] = out["every"].get<double>() * document["integrator"]["dt"].get<double>();
+          out.erase("every");
+        }
+        if (out.is_null()) document.erase("output");
+        document["integrator"] = lgi::app::json{{"method", "auto"}, {"tolerance", cmd.tol}};
+      }
       scene = lgi::app::parse_scene(document, cmd.scene_file);
     }
   } catch (const lgi::app::InputError& e) {
@@ -364,8 +387,16 @@ int run_command(const RunCommandOptions& cmd) {
                                    out->temp_path());
   }
   if (!cmd.quiet) std::fputs(lgi::app::brief_report(scene, report).c_str(), stderr);
-  if (!cmd.quiet && cmd.error_estimate)
-    std::fputs(lgi::app::error_estimate_line(lgi::app::estimate_error(scene, report, &g_signal), report).c_str(), stderr);
+  // The estimate: asked for, or by default for "auto" (whose tolerance it checks).
+  const double tolerance = scene.auto_choice.tolerance;
+  if (!cmd.quiet && (cmd.error_estimate || (tolerance > 0 && !cmd.no_error_estimate))) {
+    const lgi::app::ErrorEstimate e = lgi::app::estimate_error(scene, report, &g_signal);
+    std::fputs(lgi::app::error_estimate_line(e, report).c_str(), stderr);
+    if (tolerance > 0 && e.available && e.R + e.Omega > tolerance)
+      std::fprintf(stderr, "lgi: warning: %s: the estimated error %.1e exceeds the tolerance %s (auto assumes an error "
+                           "growing linearly in time, which chaotic motion does not obey); the rows are written\n",
+                   name.c_str(), e.R + e.Omega, format_number(tolerance).c_str());
+  }
   if (g_signal != 0 && s.status == lgi::RunStatus::completed)  // interrupted during the estimate: the rows are whole
     return fail(128 + g_signal, name + ": interrupted during the error estimate (the run completed and its output is written)");
 
@@ -538,7 +569,12 @@ int main(int argc, char** argv) {
                   "with a non-zero exit status)");
   run->add_flag("-q,--quiet", run_options.quiet, "No summary and no progress on stderr");
   run->add_flag("--error-estimate", run_options.error_estimate,
-                "Estimate the error at t_end by a second run (fixed steps: 2 dt, Richardson; adaptive: tolerances / 1000)");
+                "Estimate the error at t_end by a second run (fixed steps: 2 dt, Richardson; adaptive: tolerances / 1000); "
+                "the default with method auto");
+  run->add_flag("--no-error-estimate", run_options.no_error_estimate, "No error estimate (method auto makes one otherwise)");
+  CLI::Option* tol_option = run->add_option("--tol", run_options.tol,
+                  "Run with \"method\": \"auto\" at this tolerance (R's angle + |dOmega|/|Omega| at every output), in "
+                  "place of the scene's integrator");
   run->add_flag("--progress", run_options.progress,
                 "Progress on stderr also when it is not a terminal (a line every 2 s; on a terminal it always shows)");
   run->add_option("--checkpoint", run_options.checkpoint,
@@ -612,7 +648,10 @@ int main(int argc, char** argv) {
     return fail(exit_bad_input, e.what());
   }
   return lgi::app::guarded([&] {
-    if (run->parsed()) return run_command(run_options);
+    if (run->parsed()) {
+      run_options.tol_given = tol_option->count() > 0;
+      return run_command(run_options);
+    }
     if (sweep->parsed()) {
       catch_interrupts();  // stop between members (and inside one) and remove the temporary output
       sweep_options.stop = &g_signal;

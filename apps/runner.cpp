@@ -230,6 +230,12 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
   s += buf;
   // What the readers changed to make the input exact.
   for (const InputAdjustment& a : scene.adjustments) s += "  input            " + a.where + " " + a.what + "\n";
+  // "auto": what was chosen, why, and what choosing cost.
+  if (const AutoChoice& a = scene.auto_choice; a.tolerance > 0)
+  {
+    std::snprintf(buf, sizeof buf, " (chosen in %.3g ms)\n", 1e3 * a.seconds);
+    s += "  method auto      tolerance " + format_number(a.tolerance) + " (R's angle + |dOmega|/|Omega|): " + a.reason + buf;
+  }
   // How the run was made, where the scene asked for more than fixed steps.
   if (scene.options.rtol > 0)
     s += "  adaptive         rtol = " + format_number(scene.options.rtol) + ", atol = " +
@@ -321,7 +327,8 @@ ErrorEstimate estimate_error(const Scene& scene, const RunReport& report, const 
   }
   const State<double>& a = report.final_state;
   const State<double>& b = r.final_state;
-  const double scale = std::max(a.Omega.norm(), std::numeric_limits<double>::min());
+  // |Ω| at t or at the start, whichever is larger (a motion brought to rest: relative to its initial speed).
+  const double scale = std::max({a.Omega.norm(), scene.initial.Omega.norm(), std::numeric_limits<double>::min()});
   e.R = factor * so3::log(Mat3<double>(b.R.transpose() * a.R)).norm();
   e.Omega = factor * (a.Omega - b.Omega).norm() / scale;
   e.available = std::isfinite(e.R) && std::isfinite(e.Omega);

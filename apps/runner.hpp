@@ -171,14 +171,15 @@ RunReport run_scene(const Scene& scene, const RunOptions& options);
 //     exceeds t_end or the run with 2·dt fails (a step beyond an implicit method's limit), err(x_h) ≈ |x_h − x_{h/2}|
 //     · 2^p / (2^p − 1);
 //   adaptive steps: the run with rtol and atol divided by 1000 (rtol not below 10 ε): err(x) ≈ |x − x_tight|.
-// |·| is measured as R's rotation angle |log(R_bᵀ R_a)| (radians) and |Ω_a − Ω_b| / |Ω_a|, a the run's state. Assumes the asymptotic
+// |·| is measured as R's rotation angle |log(R_bᵀ R_a)| (radians) and |Ω_a − Ω_b| / max(|Ω_a|, |Ω0|), a the run's
+// state (relative to the initial speed when the motion slows down: a slew brought to rest). Assumes the asymptotic
 // regime of the method (an error ∝ h^p, or a tight run ≫ more accurate): within a factor 10 of the true error on the
 // random tops of tests/cli/test_error_estimate.cpp. Not available for the exact solution (no truncation error), a run
 // that did not complete, or a comparison run that did not.
 struct ErrorEstimate {
   bool available = false;
   double R = 0;      // estimated error of the attitude at t, radians
-  double Omega = 0;  // estimated error of Ω at t, relative to |Ω|
+  double Omega = 0;  // estimated error of Ω at t, relative to max(|Ω(t)|, |Ω0|)
   double t = 0;      // the time compared (the run's last state)
   std::string how;   // e.g. "Richardson with dt = 0.02 (order 4)"; when not available: why
   double seconds = 0;  // the comparison run's wall time

@@ -1,5 +1,6 @@
 #include "scene.hpp"
 
+#include "auto_method.hpp"
 #include "output_file.hpp"
 
 #include <lgi/core/attitude.hpp>
@@ -147,77 +148,91 @@ Scene parse_scene(const json& document, const std::string& file, const std::stri
   // integrator
   const Node integrator = root.at("integrator");
   const std::string method = integrator.at("method").string();
-  scene.method = find_method(method);
-  if (!scene.method) {
-    std::vector<std::string_view> names;
-    for (const MethodInfo& m : method_registry()) names.push_back(m.traits.name);
-    const std::string hint = did_you_mean(method, names);
-    integrator.at("method").fail("unknown method " + quoted_input(method) + hint +
-                                 (hint.empty() ? " (known: " + known_methods() + ")"
-                                               : " (`lgi list` shows all " + std::to_string(names.size()) + ")"));
+  // "auto" (auto_method.hpp): the method and its settings are chosen once t_end is known.
+  double auto_tolerance = 0;
+  if (method == "auto") {
+    integrator.allow_only({"method", "tolerance"}, "method auto (it chooses dt and the method's settings)");
+    const Node tolerance = integrator.at("tolerance");
+    auto_tolerance = tolerance.positive();
+    if (!(auto_tolerance >= auto_min_tolerance && auto_tolerance <= auto_max_tolerance))
+      tolerance.fail("must be in [" + format_number(auto_min_tolerance) + ", " + format_number(auto_max_tolerance) +
+                     "], got " + format_number(auto_tolerance));
+    if (!info->on_group)
+      integrator.at("method").fail("method auto chooses for a state (R, Omega) on SO(3) x R^3 alone; problem " + type +
+                                   "'s state is not: give its method (" + known_methods(type) + ")");
+  } else {
+    scene.method = find_method(method);
+    if (!scene.method) {
+      std::vector<std::string_view> names;
+      for (const MethodInfo& m : method_registry()) names.push_back(m.traits.name);
+      const std::string hint = did_you_mean(method, names);
+      integrator.at("method").fail("unknown method " + quoted_input(method) + hint +
+                                   (hint.empty() ? " (known: " + known_methods() + ")"
+                                                 : " (`lgi list` shows all " + std::to_string(names.size()) + ")"));
+    }
+    if (!method_applies(method, type)) {
+      std::string types;
+      for (const ProblemInfo& p : problem_registry())
+        if (method_applies(method, p.name)) types += (types.empty() ? "" : ", ") + std::string(p.name);
+      const std::string note = scene.problem->methods_note();
+      const std::string why = !note.empty() ? note
+                              : scene.problem->reads_omega()
+                                  ? " (its torque reads the angular velocity, and the splittings and their "
+                                    "compositions need a torque of the attitude alone)"
+                                  : "";
+      integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type + why +
+                                   "; it applies to " + types + " (methods that apply to " + type + ": " +
+                                   known_methods(type) + ")");
+    }
+    std::vector<std::string_view> keys = {"method", "dt"};
+    // A problem whose state is not on SO(3) runs the method's tableau with fixed steps (problems/euler_angle_methods.hpp).
+    const bool takes_options = info->on_group;  // a problem not on SO(3): fixed steps of the tableau, no options
+    for (const std::string_view key : scene.method->traits.options)
+      if (!key.empty() && takes_options) keys.push_back(key);
+    // rtol/atol or projection on a method that does not take them: say why, before the generic unknown-key error.
+    const auto takes = [](const MethodTraits& traits, std::string_view key) {
+      return std::find(traits.options.begin(), traits.options.end(), key) != traits.options.end();
+    };
+    for (const std::string_view key : {std::string_view("rtol"), std::string_view("atol")}) {
+      const auto node = integrator.find(key);
+      if (!node || !takes_options || takes(scene.method->traits, key)) continue;
+      std::string pairs;
+      for (const MethodInfo& m : method_registry())
+        if (takes(m.traits, key) && method_applies(m.traits.name, type))
+          pairs += (pairs.empty() ? "" : ", ") + std::string(m.traits.name);
+      node->fail("method " + method + " has no embedded error estimate: adaptive steps (rtol, atol) need one of " +
+                 pairs);
+    }
+    // Why a problem has nothing to project onto (said first: a forced LGVI is not symplectic either).
+    const auto no_projection = [&] {
+      return "problem " + type +
+             (scene.problem->reads_omega() ? "'s torque reads the angular velocity (damping, control): its energy is not "
+                                             "conserved, nothing to project onto"
+                                           : " has a time-dependent torque: no energy to project onto");
+    };
+    if (const auto node = integrator.find("projection");
+        node && takes_options && !takes(scene.method->traits, "projection")) {
+      if (!scene.problem->projectable()) node->fail(no_projection());
+      node->fail("method " + method +
+                 (scene.method->traits.symplectic
+                      ? " is symplectic (its energy error stays bounded): projection is for non-symplectic methods"
+                      : " does not take projection"));
+    }
+    integrator.allow_only(keys, "method " + method);
+    scene.dt = integrator.at("dt").positive();
+    for (const std::string_view key : scene.method->traits.options) {
+      if (key.empty()) continue;
+      const auto node = integrator.find(key);
+      if (!node) continue;
+      const auto reader = std::find_if(std::begin(option_readers), std::end(option_readers),
+                                       [&](const OptionReader& r) { return r.key == key; });
+      if (reader == std::end(option_readers)) throw std::logic_error("lgi: no reader for option " + std::string(key));
+      reader->read(*node, scene.options);
+    }
+    if ((scene.options.rtol > 0) != (scene.options.atol > 0))
+      integrator.fail("an adaptive run needs both \"rtol\" and \"atol\" (fixed steps: neither)");
+    if (scene.options.projection && !scene.problem->projectable()) integrator.at("projection").fail(no_projection());
   }
-  if (!method_applies(method, type)) {
-    std::string types;
-    for (const ProblemInfo& p : problem_registry())
-      if (method_applies(method, p.name)) types += (types.empty() ? "" : ", ") + std::string(p.name);
-    const std::string note = scene.problem->methods_note();
-    const std::string why = !note.empty() ? note
-                            : scene.problem->reads_omega()
-                                ? " (its torque reads the angular velocity, and the splittings and their "
-                                  "compositions need a torque of the attitude alone)"
-                                : "";
-    integrator.at("method").fail("method \"" + method + "\" does not apply to problem " + type + why +
-                                 "; it applies to " + types + " (methods that apply to " + type + ": " +
-                                 known_methods(type) + ")");
-  }
-  std::vector<std::string_view> keys = {"method", "dt"};
-  // A problem whose state is not on SO(3) runs the method's tableau with fixed steps (problems/euler_angle_methods.hpp).
-  const bool takes_options = info->on_group;  // a problem not on SO(3): fixed steps of the tableau, no options
-  for (const std::string_view key : scene.method->traits.options)
-    if (!key.empty() && takes_options) keys.push_back(key);
-  // rtol/atol or projection on a method that does not take them: say why, before the generic unknown-key error.
-  const auto takes = [](const MethodTraits& traits, std::string_view key) {
-    return std::find(traits.options.begin(), traits.options.end(), key) != traits.options.end();
-  };
-  for (const std::string_view key : {std::string_view("rtol"), std::string_view("atol")}) {
-    const auto node = integrator.find(key);
-    if (!node || !takes_options || takes(scene.method->traits, key)) continue;
-    std::string pairs;
-    for (const MethodInfo& m : method_registry())
-      if (takes(m.traits, key) && method_applies(m.traits.name, type))
-        pairs += (pairs.empty() ? "" : ", ") + std::string(m.traits.name);
-    node->fail("method " + method + " has no embedded error estimate: adaptive steps (rtol, atol) need one of " +
-               pairs);
-  }
-  // Why a problem has nothing to project onto (said first: a forced LGVI is not symplectic either).
-  const auto no_projection = [&] {
-    return "problem " + type +
-           (scene.problem->reads_omega() ? "'s torque reads the angular velocity (damping, control): its energy is not "
-                                           "conserved, nothing to project onto"
-                                         : " has a time-dependent torque: no energy to project onto");
-  };
-  if (const auto node = integrator.find("projection");
-      node && takes_options && !takes(scene.method->traits, "projection")) {
-    if (!scene.problem->projectable()) node->fail(no_projection());
-    node->fail("method " + method +
-               (scene.method->traits.symplectic
-                    ? " is symplectic (its energy error stays bounded): projection is for non-symplectic methods"
-                    : " does not take projection"));
-  }
-  integrator.allow_only(keys, "method " + method);
-  scene.dt = integrator.at("dt").positive();
-  for (const std::string_view key : scene.method->traits.options) {
-    if (key.empty()) continue;
-    const auto node = integrator.find(key);
-    if (!node) continue;
-    const auto reader = std::find_if(std::begin(option_readers), std::end(option_readers),
-                                     [&](const OptionReader& r) { return r.key == key; });
-    if (reader == std::end(option_readers)) throw std::logic_error("lgi: no reader for option " + std::string(key));
-    reader->read(*node, scene.options);
-  }
-  if ((scene.options.rtol > 0) != (scene.options.atol > 0))
-    integrator.fail("an adaptive run needs both \"rtol\" and \"atol\" (fixed steps: neither)");
-  if (scene.options.projection && !scene.problem->projectable()) integrator.at("projection").fail(no_projection());
 
   // t_end and the number of steps it implies
   const Node t_end = root.at("t_end");
@@ -228,6 +243,13 @@ Scene parse_scene(const json& document, const std::string& file, const std::stri
     t_end.fail("t_end = " + format_number(scene.t_end) + " is beyond the last row of the torque table" +
                (files.empty() ? std::string() : " " + files.front().first) + " (t = " + format_number(limit) +
                "): the torque is not known there");
+  }
+  if (auto_tolerance > 0) {
+    try {
+      choose_auto(scene, auto_tolerance);
+    } catch (const std::invalid_argument& e) {
+      integrator.at("method").fail(e.what());
+    }
   }
   // dt is the step (adaptive runs: the first step); one longer than the whole run is a slip of units or digits.
   if (scene.t_end > 0 && scene.dt > scene.t_end)
@@ -258,6 +280,8 @@ Scene parse_scene(const json& document, const std::string& file, const std::stri
         scene.output_times.push_back(t);
       }
     }
+    if (every && auto_tolerance > 0)
+      every->fail("counts steps, and method auto chooses them: give \"interval\" or \"times\"");
     if (every) scene.output_every = every->integer(1, std::int64_t{1} << 53);
     if (interval) {
       // The grid k·interval (k = 1, 2, … below t_end; t_end itself is always written), as output times: adaptive

@@ -9,7 +9,8 @@
 //   - initial.R, k and z0 must be within 1e-9 of a rotation / unit vector; they are then projected
 //     exactly onto SO(3) / the unit sphere, so the run starts on the group to round-off.
 //   - Rows are written at t = 0, at each output time (or every N steps), and at t_end.
-//   - integrator.tolerance and integrator.max_iterations are accepted by implicit methods only.
+//   - integrator.tolerance and integrator.max_iterations are accepted by implicit methods only; with "method":
+//     "auto" (auto_method.hpp), "tolerance" is the run's accuracy and the only other key.
 #pragma once
 
 #include "json_reader.hpp"
@@ -24,6 +25,14 @@
 #include <vector>
 
 namespace lgi::app {
+
+// "method": "auto" (auto_method.hpp): the tolerance asked for and what was chosen.
+struct AutoChoice {
+  double tolerance = 0;          // > 0: the scene asked for "auto" (scene.method, dt, options are its choice)
+  std::string reason;            // why that method and those settings (the summary's line)
+  std::int64_t probe_steps = 0;  // steps taken by the probes that set a fixed step
+  double seconds = 0;            // the choice's wall time, probes included
+};
 
 struct Scene {
   std::string file;
@@ -44,6 +53,7 @@ struct Scene {
   // What the readers changed to make the input exact (a rotation projected, a unit vector normalised), each
   // above input_note_defect (registry.hpp).
   std::vector<InputAdjustment> adjustments;
+  AutoChoice auto_choice;
 };
 
 // The largest number of steps a scene may ask for (t_end / dt).

@@ -558,6 +558,7 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
       const TimeAt& ta = t_at[r.method.name][eps];
       const double t = ta.seconds;
       if (!std::isfinite(t)) continue;
+      if (r.method.name == "auto") continue;  // compared with the best below
       if (r.method.library == "lgi") {
         if (!(t >= lgi_t)) {
           lgi_t = t;
@@ -579,6 +580,32 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
     s["peer_seconds"] = std::isfinite(peer_t) ? json(peer_t) : json(nullptr);
     const double ratio = lgi_t / peer_t;
     s["ratio_lgi_over_peer"] = std::isfinite(ratio) ? json(ratio) : json(nullptr);
+    // "auto" (its choice and probes timed) against the fastest lgi method at the same ε, with the per-pass spread.
+    if (const auto a = t_at.find("auto"); a != t_at.end() && std::isfinite(a->second[eps].seconds)) {
+      const double auto_t = a->second[eps].seconds;
+      s["auto_seconds"] = auto_t;
+      s["auto_upper_bound"] = a->second[eps].upper_bound;
+      if (std::isfinite(lgi_t)) {
+        s["ratio_auto_over_lgi_best"] = auto_t / lgi_t;
+        const auto run_named = [&](const std::string& name) -> const MethodRun& {
+          return *std::find_if(runs.begin(), runs.end(), [&](const MethodRun& r) { return r.method.name == name; });
+        };
+        std::vector<double> per_pass;
+        for (int pass = 0; pass < o.reps; ++pass) {
+          const double q = time_at(run_named("auto"), eps, ref.error_bar, pass).seconds /
+                           time_at(run_named(lgi_best), eps, ref.error_bar, pass).seconds;
+          if (std::isfinite(q)) per_pass.push_back(q);
+        }
+        if (!per_pass.empty()) {
+          std::sort(per_pass.begin(), per_pass.end());
+          const auto quantile = [&](double f) {
+            return per_pass[static_cast<std::size_t>(f * static_cast<double>(per_pass.size() - 1) + 0.5)];
+          };
+          s["auto_ratio_q1"] = quantile(0.25);
+          s["auto_ratio_q3"] = quantile(0.75);
+        }
+      }
+    }
     // The spread: the ratio of the two methods' t(ε) within each timed pass (the methods are interleaved, so a pass
     // sees both in the same minutes of the machine), its quartiles over the passes.
     if (!lgi_best.empty() && !peer_best.empty()) {

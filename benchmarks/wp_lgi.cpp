@@ -6,6 +6,7 @@
 // starts from the case's initial state. The projected methods are the scene's "projection": true.
 #include "wp_common.hpp"
 
+#include "auto_method.hpp"     // apps/: choose_auto
 #include "registry.hpp"        // apps/: find_method
 #include "runner_detail.hpp"   // apps/: the problem's runner, its integrator
 #include "scene.hpp"           // apps/: load_scene
@@ -98,6 +99,51 @@ class EngineTrial final : public Trial {
   std::int64_t steps_ = 0;
 };
 
+// "method": "auto" at tolerance `param` (apps/auto_method.hpp): the choice — its probes included — is made in every
+// timed run, as `lgi run` makes it for every scene; the chosen method then runs as its EngineTrial runs it (built
+// once, outside the timing, like every trial's integrator). The choice sees the case's scene with t_end = the
+// evaluation time.
+class AutoTrial final : public Trial {
+ public:
+  AutoTrial(const Case& c, const lgi::app::Scene& case_scene, std::span<const double> times, double tolerance)
+      : scene_(case_scene), tolerance_(tolerance) {
+    scene_.t_end = times.back();
+    scene_.output_times.clear();
+    lgi::app::Scene chosen = scene_;
+    lgi::app::choose_auto(chosen, tolerance_);
+    const bool adaptive = chosen.options.rtol > 0;
+    inner_ = std::make_unique<EngineTrial>(c, chosen, *chosen.method, chosen.options.projection, adaptive, times,
+                                           adaptive ? chosen.options.rtol : std::round(times.back() / chosen.dt));
+    samples_.reserve(times.size() + 1);
+  }
+  void reset() override { inner_->reset(); }
+  bool run() override {
+    choice_ = scene_;
+    lgi::app::choose_auto(choice_, tolerance_);
+    const bool ok = inner_->run();
+    samples_ = inner_->samples();
+    return ok;
+  }
+  std::int64_t steps() const override { return inner_->steps(); }
+
+ private:
+  lgi::app::Scene scene_, choice_;
+  double tolerance_;
+  std::unique_ptr<EngineTrial> inner_;
+};
+
+Method auto_method(const std::shared_ptr<const lgi::app::Scene>& scene) {
+  Method m;
+  m.name = "auto";
+  m.library = "lgi";
+  m.description = "method auto: lgi's choice for the tolerance (probes included)";
+  m.adaptive = true;  // its parameter is the tolerance
+  m.make = [scene](const Case& k, std::span<const double> times, double param) -> std::unique_ptr<Trial> {
+    return std::make_unique<AutoTrial>(k, *scene, times, param);
+  };
+  return m;
+}
+
 // A Method entry: `name` from the registry; "_projected" with the scene's projection on; adaptive where the method
 // is an embedded pair and asked to be.
 Method engine_method(const Case& c, const std::shared_ptr<const lgi::app::Scene>& scene, std::string_view name,
@@ -163,6 +209,7 @@ std::vector<Method> lgi_methods(const Case& c) {
     for (const char* name : {"lagrange_split", "lagrange_split_yoshida4", "lagrange_split_kahan_li6",
                              "lagrange_split_kahan_li8", "lagrange_split_sofroniou_spaletta10"})
       add(name);
+  m.push_back(auto_method(scene));
   return m;
 }
 

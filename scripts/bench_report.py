@@ -209,6 +209,39 @@ def main():
         (": " + ", ".join("%s at %s" % x for x in wins)) if wins else ""))
     w("")
 
+    # method auto against the fastest lgi method
+    if any(c["summary"][e].get("auto_seconds") is not None for c in wp["cases"] for e in TARGETS):
+        w("## `method: auto` against the fastest lgi method")
+        w("")
+        w("`\"method\": \"auto\"` swept over the same tolerances (apps/auto_method.hpp): its choice, the probes that set a "
+          "fixed step included, is made in every timed run. t(ε) as above; the ratio's spread is the same ratio within "
+          "each timed pass, as quartiles over the passes.")
+        w("")
+        w("| case | ε | auto | fastest lgi method | t | auto / fastest | per pass: quartiles |")
+        w("|---|---|---:|---|---:|---:|---|")
+        accuracy = []
+        for c in wp["cases"]:
+            for eps in TARGETS:
+                s = c["summary"][eps]
+                if s.get("auto_seconds") is None:
+                    continue
+                r = s.get("ratio_auto_over_lgi_best")
+                spread = ("%.2f–%.2f" % (s["auto_ratio_q1"], s["auto_ratio_q3"]) if "auto_ratio_q1" in s else "—")
+                w("| %s | %s | %s | %s | %s | %s | %s |" % (
+                    c["name"], EPS_LABEL[eps], ("≤ " if s.get("auto_upper_bound") else "") + fmt_time(s["auto_seconds"]),
+                    s["lgi_best"] or "—", ("≤ " if s.get("lgi_upper_bound") else "") + fmt_time(s["lgi_seconds"]),
+                    "—" if r is None else "%.2f" % r, spread))
+            auto = [m for m in c["methods"] if m["name"] == "auto"]
+            pts = [p for m in auto for p in m["points"] if p.get("ok", True) and p.get("tol") is not None
+                   and 1e-12 * 0.999 <= p["tol"] <= 1e-6 * 1.001 and p.get("error") is not None]
+            if pts:
+                accuracy.append("%s %.2f" % (c["name"], max(p["error"] / p["tol"] for p in pts)))
+        w("")
+        if accuracy:
+            w("auto's error at T (this page's measure: the rotation angle + |Ω − Ω_ref|, Ω absolute) over its tolerance, "
+              "largest over the tolerances 1e-6 … 1e-12 of the sweep: " + "; ".join(accuracy) + ".")
+            w("")
+
     # Per case
     w("## Work-precision per case")
     w("")

@@ -358,6 +358,27 @@ TEST_F(Cli, ErrorEstimateAddsOneLineAndChangesNoRow) {
   EXPECT_EQ(q.err, "");
 }
 
+// --tol: the scene's integrator replaced by "auto"; the summary names the choice and estimates the error; rows every
+// N steps become rows every N dt; bad values and a resumed run are refused.
+TEST_F(Cli, TolRunsMethodAutoWithItsEstimate) {
+  const fs::path file = write("tol.json", std::string(SceneText{
+      .integrator = R"("integrator": {"method": "rkmk4", "dt": 0.01})", .rest = R"("t_end": 5.0, "output": {"every": 100})"}));
+  const Result r = lgi("run --tol 1e-8 " + file.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("heavy_top, rkmk_vern9_cayley (order 9"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("  method auto      tolerance 1e-08"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("  estimated error  R "), std::string::npos) << r.err;
+  const Csv csv = parse_csv(r.out);
+  ASSERT_EQ(csv.rows.size(), 6u);  // t = 0, 1, …, 5
+  EXPECT_EQ(csv.rows[1][0], 1.0);
+  const Result quiet = lgi("run --tol 1e-8 --no-error-estimate " + file.string());
+  EXPECT_EQ(quiet.err.find("estimated error"), std::string::npos) << quiet.err;
+  EXPECT_EQ(quiet.out, r.out);
+  const Result bad = lgi("run --tol 0 " + file.string());
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_EQ(bad.err, "lgi: error: --tol: must be in [1e-13, 0.1], got 0\n");
+}
+
 // Every attitude form — a quaternion of either sign, axis and angle (the axis of any length), z-x-z and z-y-x Euler
 // angles in radians and degrees, with omega or with Euler-angle rates — gives the first row of the equivalent R and
 // omega, to the rounding of the conversions (R = Rx(30°), Ω = (5, 0.2, 0.1): the rates below are chosen so).

@@ -402,6 +402,16 @@ std::vector<Case> cases() {
        "lgi: error: {file}: /problem/rotors: the rotors' axial inertias leave the body no inertia about some axis (J - "
        "sum I_s a a^T is not positive definite: its leading 1x1 minor is 0; the problem's inertia is the whole body's "
        "with the rotors locked)"},
+      // "method": "auto": a tolerance, nothing else, and no output counted in steps.
+      {"auto_without_tolerance", edit(h, "{\"method\": \"lgvi\", \"dt\": 0.01, \"tolerance\": 1e-12, \"max_iterations\": 30}", "{\"method\": \"auto\"}"),
+       "lgi: error: {file}: /integrator: missing key \"tolerance\""},
+      {"auto_with_dt", edit(h, "{\"method\": \"lgvi\", \"dt\": 0.01, \"tolerance\": 1e-12, \"max_iterations\": 30}", "{\"method\": \"auto\", \"tolerance\": 1e-8, \"dt\": 0.01}"),
+       "lgi: error: {file}: /integrator/dt: unknown key for method auto (it chooses dt and the method's settings) "
+       "(allowed: method, tolerance)"},
+      {"auto_tolerance_too_small", edit(h, "{\"method\": \"lgvi\", \"dt\": 0.01, \"tolerance\": 1e-12, \"max_iterations\": 30}", "{\"method\": \"auto\", \"tolerance\": 1e-15}"),
+       "lgi: error: {file}: /integrator/tolerance: must be in [1e-13, 0.1], got 1e-15"},
+      {"auto_output_every", edit(h, "{\"method\": \"lgvi\", \"dt\": 0.01, \"tolerance\": 1e-12, \"max_iterations\": 30}", "{\"method\": \"auto\", \"tolerance\": 1e-8}"),
+       "lgi: error: {file}: /output/every: counts steps, and method auto chooses them: give \"interval\" or \"times\""},
       {"rotors_none",
        R"({"problem": {"type": "gyrostat", "inertia": [3, 2, 1], "rotors": []},
            "initial": {"omega": [0, 0, 1]}, "integrator": {"method": "lgvi", "dt": 0.01}, "t_end": 0.1})",
@@ -411,6 +421,11 @@ std::vector<Case> cases() {
       {"wheel_axes_flat", edit(gyrostat, "\"axis\": [0, 0, 1]", "\"axis\": [0, 1, 0]"),
        "lgi: error: {file}: /problem/wheel_control: the rotors' axes do not span three dimensions (det(A A^T) = 0): the "
        "wheels cannot apply every torque the law asks for"},
+      {"auto_on_gyrostat", edit(gyrostat, "{\"method\": \"lgvi\", \"dt\": 0.01}", "{\"method\": \"auto\", \"tolerance\": 1e-8}"),
+       "lgi: error: {file}: /integrator/method: method auto chooses for a state (R, Omega) on SO(3) x R^3 alone; problem "
+       "gyrostat's state is not: give its method (lgvi, rkmk4, lie_euler, rkmk_heun, rkmk3, rkmk4_38, rkmk_dp5, "
+       "rkmk_dp8, rkmk_vern9, lgvi_yoshida4, lgvi_suzuki4, lgvi_yoshida6, lgvi_kahan_li6, lgvi_yoshida8, "
+       "lgvi_kahan_li8, lgvi_sofroniou_spaletta10)"},
       {"method_not_for_gyrostat", edit(gyrostat, "\"lgvi\"", "\"cf4\""),
        "lgi: error: {file}: /integrator/method: method \"cf4\" does not apply to problem gyrostat (its rotors are "
        "stepped with the body by the gyrostat's methods: lgvi and its compositions, and the RKMK tableaus in the "
