@@ -110,8 +110,8 @@ void choose_auto(Scene& scene, double tolerance) {
     throw std::invalid_argument("method auto chooses for a state (R, Omega) on SO(3) x R^3 alone; problem " + type +
                                 "'s state is not: give its method (" + known_methods(type) + ")");
   AutoChoice& choice = scene.auto_choice;
-  choice = AutoChoice{};
   choice.tolerance = tolerance;
+  choice.probe_steps = 0;
   scene.options = StepperOptions{};
   const double T = scene.t_end;
   const double w0 = scene.initial.Omega.norm();

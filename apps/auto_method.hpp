@@ -27,7 +27,7 @@
 // linearly in time, the local error at the initial state representative of the orbit, the pair's global error
 // within (1 + T·ω / 20) of its tolerance — hold on regular motions; chaotic motion amplifies every error
 // exponentially, and no choice of method bounds the global error there. `lgi run` therefore estimates the global
-// error of every `auto` run (runner.hpp, estimate_error) and warns when the estimate exceeds ε.
+// error of every `auto` run (runner.hpp, estimate_error) and warns when the estimate exceeds 10 ε.
 #pragma once
 
 #include "scene.hpp"

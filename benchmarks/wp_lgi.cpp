@@ -102,15 +102,19 @@ class EngineTrial final : public Trial {
 // "method": "auto" at tolerance `param` (apps/auto_method.hpp): the choice — its probes included — is made in every
 // timed run, as `lgi run` makes it for every scene; the chosen method then runs as its EngineTrial runs it (built
 // once, outside the timing, like every trial's integrator). The choice sees the case's scene with t_end = the
-// evaluation time.
+// evaluation time (choose_auto reads the problem, the initial state and t_end, and sets the rest: each run chooses
+// anew on the same Scene object).
 class AutoTrial final : public Trial {
  public:
   AutoTrial(const Case& c, const lgi::app::Scene& case_scene, std::span<const double> times, double tolerance)
       : scene_(case_scene), tolerance_(tolerance) {
     scene_.t_end = times.back();
     scene_.output_times.clear();
-    lgi::app::Scene chosen = scene_;
-    lgi::app::choose_auto(chosen, tolerance_);
+    const lgi::app::Scene chosen = [&] {
+      lgi::app::Scene s = scene_;
+      lgi::app::choose_auto(s, tolerance_);
+      return s;
+    }();
     const bool adaptive = chosen.options.rtol > 0;
     inner_ = std::make_unique<EngineTrial>(c, chosen, *chosen.method, chosen.options.projection, adaptive, times,
                                            adaptive ? chosen.options.rtol : std::round(times.back() / chosen.dt));
@@ -118,8 +122,7 @@ class AutoTrial final : public Trial {
   }
   void reset() override { inner_->reset(); }
   bool run() override {
-    choice_ = scene_;
-    lgi::app::choose_auto(choice_, tolerance_);
+    lgi::app::choose_auto(scene_, tolerance_);
     const bool ok = inner_->run();
     samples_ = inner_->samples();
     return ok;
@@ -127,7 +130,7 @@ class AutoTrial final : public Trial {
   std::int64_t steps() const override { return inner_->steps(); }
 
  private:
-  lgi::app::Scene scene_, choice_;
+  lgi::app::Scene scene_;
   double tolerance_;
   std::unique_ptr<EngineTrial> inner_;
 };
