@@ -27,6 +27,7 @@
 #include "hashing.hpp"
 #include "plugin_loader.hpp"
 #include "registry.hpp"
+#include "run_messages.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
 #include "command.hpp"
@@ -414,52 +415,7 @@ int run_command(const RunCommandOptions& cmd) {
   }
 
   // An incomplete run: where, why, what was kept, how to continue.
-  const std::string at = "t = " + format_number(s.t) + " after " + std::to_string(s.steps) + " steps";
-  std::string message;
-  int status = exit_run_failed;
-  switch (report.stop_reason) {
-    case lgi::app::StopReason::none:  // a failed step
-      message = "the step from t = " + format_number(s.t) + " failed: " + std::string(lgi::to_string(s.step_status)) +
-                " (step " + std::to_string(s.steps + 1) + " of the run";
-      if (s.step_status == lgi::StepStatus::not_converged) {
-        // The implicit equation of the LGVI (and of its compositions' substeps) has no solution once h|Ω| passes
-        // about 1 (exactly 1 about a principal axis: docs/findings.md): no iteration limit helps there.
-        const double w = report.final_state.Omega.norm(), hw = scene.dt * w;
-        if (hw > 0.5)
-          message += "; h|omega| = " + format_number(hw) + " at the last good state, where the implicit equation of " +
-                     std::string(scene.method->traits.name) + " may have no solution (none beyond h|omega| = 1 about a principal "
-                     "axis): take /integrator/dt below " + format_number(0.5 / w) +
-                     ", or split_dmv, which takes substeps there)";
-        else
-          message += "; try a smaller /integrator/dt, or raise /integrator/max_iterations)";
-      }
-      else if (s.step_status == lgi::StepStatus::non_finite)
-        message += "; the solution overflowed or the torque returned NaN; try a smaller /integrator/dt)";
-      else if (s.step_status == lgi::StepStatus::step_size_underflow)
-        message += "; raise /integrator/rtol or /integrator/atol)";
-      else
-        message += ")";
-      break;
-    case lgi::app::StopReason::left_domain:
-      message = "stopped at " + at + ": the Euler angles left their domain (see the warning)";
-      break;
-    case lgi::app::StopReason::write_failed:  // handled above
-      break;
-    case lgi::app::StopReason::signal:
-      status = 128 + g_signal;
-      message = std::string("interrupted by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM") + " at " + at;
-      break;
-    case lgi::app::StopReason::max_steps:
-      status = lgi::app::exit_run_stopped;
-      message = scene.max_steps > 0 ? "stopped by /limits/max_steps = " + std::to_string(scene.max_steps) + " at " + at
-                                    : "stopped at " + at + ": the adaptive driver's limit of 1e9 attempted steps "
-                                                           "(set /limits/max_steps)";
-      break;
-    case lgi::app::StopReason::max_wall_seconds:
-      status = lgi::app::exit_run_stopped;
-      message = "stopped by /limits/max_wall_seconds = " + format_number(scene.max_wall_seconds) + " at " + at;
-      break;
-  }
+  auto [status, message] = lgi::app::incomplete_run(scene, report, g_signal);
   const std::string holds = out->streamed() ? where + " got" : where + " holds";
   if (report.has_rows)
     message += "; " + holds + " the rows to t = " + format_number(s.t) +

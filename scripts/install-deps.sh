@@ -23,6 +23,7 @@ packages=(
   clang libclang-rt-14-dev  # scene fuzzer (fuzz/): clang-14 only Recommends the libFuzzer/ASan runtimes (rt-14-dev)
   libopenmpi-dev openmpi-bin  # lgi_sweep_mpi (optional, apps/sweep_mpi.cpp): Open MPI, and mpirun for its test
   doxygen               # the API reference (docs target) and its api_reference test (docs/Doxyfile.in)
+  pybind11-dev python3-dev python3-numpy python3-pytest  # the Python package (python/) and its tests
 )
 # shellcheck disable=SC2206
 packages+=(${LGI_DEPS_EXTRA:-})
