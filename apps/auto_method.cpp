@@ -10,9 +10,11 @@
 #include <lgi/problems/lagrange_top.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <initializer_list>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -20,10 +22,27 @@
 namespace lgi::app {
 namespace {
 
-// The first of `names` this build offers for the problem type, or nullptr.
-const MethodInfo* first_applying(std::string_view type, std::initializer_list<std::string_view> names) {
+// The methods auto chooses from, looked up in the registry once (its table of 48 traits is not walked per choice).
+constexpr std::string_view candidates[] = {"exact",      "lagrange_split_kahan_li8", "lagrange_split_sofroniou_spaletta10",
+                                           "rkmk_vern9_cayley", "rkmk_vern9", "rkmk_dp8_cayley", "rkmk_dp8", "rkmk4",
+                                           "lgvi"};
+const MethodInfo* method_named(std::string_view name) {
+  static const auto resolved = [] {
+    std::array<const MethodInfo*, std::size(candidates)> r{};
+    for (std::size_t i = 0; i < r.size(); ++i) r[i] = find_method(candidates[i]);
+    return r;
+  }();
+  for (std::size_t i = 0; i < resolved.size(); ++i)
+    if (candidates[i] == name) return resolved[i];
+  return find_method(name);
+}
+
+// The first of `names` this build offers for the problem, or nullptr.
+const MethodInfo* first_applying(const ProblemInfo* problem, std::initializer_list<std::string_view> names) {
+  if (!problem) return nullptr;
   for (const std::string_view name : names)
-    if (method_applies(name, type)) return find_method(name);
+    if (std::find(problem->methods.begin(), problem->methods.end(), name) != problem->methods.end())
+      return method_named(name);
   return nullptr;
 }
 
@@ -53,6 +72,7 @@ std::string number(double x) {
 
 // The fixed step for `scene.method` (auto_method.hpp, probes). Returns h = t_end / N.
 double probe_step(Scene& scene, double tolerance, int order, double h_cap, AutoChoice& choice) {
+  const auto start = std::chrono::steady_clock::now();
   const double T = scene.t_end;
   const auto engine = scene.problem->runner()->integrator(scene);
   const State<double> x0 = scene.initial;
@@ -97,34 +117,36 @@ double probe_step(Scene& scene, double tolerance, int order, double h_cap, AutoC
     h = next;
   }
   const double steps = std::max(1.0, std::ceil(T / h));
+  choice.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return T / steps;
 }
 
 }  // namespace
 
 void choose_auto(Scene& scene, double tolerance) {
-  const auto start = std::chrono::steady_clock::now();
   const ProblemModel& model = *scene.problem;
   const std::string type(model.type_name());
   if (!model.on_group())
     throw std::invalid_argument("method auto chooses for a state (R, Omega) on SO(3) x R^3 alone; problem " + type +
                                 "'s state is not: give its method (" + known_methods(type) + ")");
+  const ProblemInfo* info = find_problem(type);
   AutoChoice& choice = scene.auto_choice;
   choice.tolerance = tolerance;
   choice.probe_steps = 0;
+  choice.seconds = 0;
   scene.options = StepperOptions{};
   const double T = scene.t_end;
   const double w0 = scene.initial.Omega.norm();
 
-  if (const MethodInfo* exact = first_applying(type, {"exact"})) {
+  if (const MethodInfo* exact = first_applying(info, {"exact"})) {
     scene.method = exact;
     scene.dt = T > 0 ? T : 1.0;
     choice.reason = "a free body: its exact solution, one evaluation per output time (error ~1e-16 x the state's "
                     "sensitivity, below any tolerance)";
   } else if (const MethodInfo* split = tolerance >= 1e-8
-                                           ? first_applying(type, {"lagrange_split_kahan_li8",
+                                           ? first_applying(info, {"lagrange_split_kahan_li8",
                                                                    "lagrange_split_sofroniou_spaletta10"})
-                                           : first_applying(type, {"lagrange_split_sofroniou_spaletta10",
+                                           : first_applying(info, {"lagrange_split_sofroniou_spaletta10",
                                                                    "lagrange_split_kahan_li8"})) {
     scene.method = split;
     // The spin about the symmetry axis is integrated exactly, and the kicks take any step: no cap but T.
@@ -132,7 +154,7 @@ void choose_auto(Scene& scene, double tolerance) {
     choice.reason = "an axisymmetric top with its centre of mass on the axis: a composition of the spin-frame "
                     "splitting (the spin integrated exactly), fixed steps from " +
                     std::to_string(choice.probe_steps) + " probe steps";
-  } else if (const MethodInfo* pair = first_applying(type, {"rkmk_vern9_cayley", "rkmk_vern9", "rkmk_dp8_cayley"})) {
+  } else if (const MethodInfo* pair = first_applying(info, {"rkmk_vern9_cayley", "rkmk_vern9", "rkmk_dp8_cayley"})) {
     scene.method = pair;
     const double w = w0 + gravity_frequency(model);  // a scale of the motion's frequencies
     const double rtol = std::max(min_rtol, tolerance / (1 + T * w / 20));
@@ -144,7 +166,7 @@ void choose_auto(Scene& scene, double tolerance) {
     choice.reason = "an embedded pair, adaptive steps with rtol = atol = " + number(rtol) + " (the tolerance / (1 + " +
                     number(T * w) + " rad of motion / 20))" +
                     (scene.options.projection ? ", projected onto the invariants (a long horizon)" : "");
-  } else if (const MethodInfo* fixed = first_applying(type, {"rkmk_vern9", "rkmk_dp8", "rkmk4", "lgvi"})) {
+  } else if (const MethodInfo* fixed = first_applying(info, {"rkmk_vern9", "rkmk_dp8", "rkmk4", "lgvi"})) {
     scene.method = fixed;
     scene.dt = T > 0 ? probe_step(scene, tolerance, fixed->traits.order, w0 > 0 ? std::min(T, 1 / w0) : T, choice)
                      : 1.0;
@@ -153,7 +175,6 @@ void choose_auto(Scene& scene, double tolerance) {
   } else {
     throw std::invalid_argument("method auto finds no method for problem " + type + " in this build");
   }
-  choice.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace lgi::app

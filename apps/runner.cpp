@@ -233,7 +233,8 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
   // "auto": what was chosen, why, and what choosing cost.
   if (const AutoChoice& a = scene.auto_choice; a.tolerance > 0)
   {
-    std::snprintf(buf, sizeof buf, " (chosen in %.3g ms)\n", 1e3 * a.seconds);
+    if (a.probe_steps > 0) std::snprintf(buf, sizeof buf, " (the probes took %.3g ms)\n", 1e3 * a.seconds);
+    else std::snprintf(buf, sizeof buf, "\n");
     s += "  method auto      tolerance " + format_number(a.tolerance) + " (R's angle + |dOmega|/|Omega|): " + a.reason + buf;
   }
   // How the run was made, where the scene asked for more than fixed steps.

@@ -31,7 +31,7 @@ struct AutoChoice {
   double tolerance = 0;          // > 0: the scene asked for "auto" (scene.method, dt, options are its choice)
   std::string reason;            // why that method and those settings (the summary's line)
   std::int64_t probe_steps = 0;  // steps taken by the probes that set a fixed step
-  double seconds = 0;            // the choice's wall time, probes included
+  double seconds = 0;            // the probes' wall time (0 without probes)
 };
 
 struct Scene {
