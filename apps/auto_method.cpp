@@ -23,9 +23,9 @@ namespace lgi::app {
 namespace {
 
 // The methods auto chooses from, looked up in the registry once (its table of 48 traits is not walked per choice).
-constexpr std::string_view candidates[] = {"exact",      "lagrange_split_kahan_li8", "lagrange_split_sofroniou_spaletta10",
-                                           "rkmk_vern9_cayley", "rkmk_vern9", "rkmk_dp8_cayley", "rkmk_dp8", "rkmk4",
-                                           "lgvi"};
+constexpr std::string_view candidates[] = {"exact",           "lagrange_split_kahan_li8", "lagrange_split_sofroniou_spaletta10",
+                                           "rkmk_vern9_cayley", "rkmk_vern9", "rkmk_dp8_cayley", "rkmk_dp8",
+                                           "rkmk_dp5_cayley",   "rkmk_dp5",   "rkmk4",           "lgvi"};
 const MethodInfo* method_named(std::string_view name) {
   static const auto resolved = [] {
     std::array<const MethodInfo*, std::size(candidates)> r{};
@@ -154,7 +154,8 @@ void choose_auto(Scene& scene, double tolerance) {
     choice.reason = "an axisymmetric top with its centre of mass on the axis: a composition of the spin-frame "
                     "splitting (the spin integrated exactly), fixed steps from " +
                     std::to_string(choice.probe_steps) + " probe steps";
-  } else if (const MethodInfo* pair = first_applying(info, {"rkmk_vern9_cayley", "rkmk_vern9", "rkmk_dp8_cayley"})) {
+  } else if (const MethodInfo* pair = first_applying(info, {"rkmk_vern9_cayley", "rkmk_vern9", "rkmk_dp8_cayley",
+                                                             "rkmk_dp8", "rkmk_dp5_cayley", "rkmk_dp5"})) {
     scene.method = pair;
     const double w = w0 + gravity_frequency(model);  // a scale of the motion's frequencies
     const double rtol = std::max(min_rtol, tolerance / (1 + T * w / 20));
@@ -166,11 +167,11 @@ void choose_auto(Scene& scene, double tolerance) {
     choice.reason = "an embedded pair, adaptive steps with rtol = atol = " + number(rtol) + " (the tolerance / (1 + " +
                     number(T * w) + " rad of motion / 20))" +
                     (scene.options.projection ? ", projected onto the invariants (a long horizon)" : "");
-  } else if (const MethodInfo* fixed = first_applying(info, {"rkmk_vern9", "rkmk_dp8", "rkmk4", "lgvi"})) {
+  } else if (const MethodInfo* fixed = first_applying(info, {"rkmk4", "lgvi"})) {
     scene.method = fixed;
     scene.dt = T > 0 ? probe_step(scene, tolerance, fixed->traits.order, w0 > 0 ? std::min(T, 1 / w0) : T, choice)
                      : 1.0;
-    choice.reason = "no embedded pair applies: fixed steps from " + std::to_string(choice.probe_steps) +
+    choice.reason = "no embedded pair in this build: fixed steps from " + std::to_string(choice.probe_steps) +
                     " probe steps";
   } else {
     throw std::invalid_argument("method auto finds no method for problem " + type + " in this build");

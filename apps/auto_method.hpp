@@ -14,7 +14,7 @@
 //      adaptive with rtol = atol = ε / (1 + T·ω / 20), ω = |Ω0| + (the gravity's frequency scale √(b / min J_ii)), the first
 //      step 0.1 / ω; with `"projection": true` on a conservative problem whose horizon exceeds 10⁴ radians of
 //      rotation (T·ω), where the controller's local error would otherwise let the energy drift.
-//   4. Otherwise (a gyrostat: no embedded pair): `rkmk_vern9` with fixed steps.
+//   4. Otherwise (a build without the embedded pairs: LGI_METHODS): `rkmk4` or `lgvi` with fixed steps.
 //
 // The fixed steps (2 and 4) come from probes of the method's local error at the initial state: one step of h against
 // two of h/2 gives the local error l(h) = C h^(p+1) (p the method's order on the problem); the global error after
