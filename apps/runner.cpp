@@ -231,8 +231,7 @@ std::string brief_report(const Scene& scene, const RunReport& r) {
   // What the readers changed to make the input exact.
   for (const InputAdjustment& a : scene.adjustments) s += "  input            " + a.where + " " + a.what + "\n";
   // "auto": what was chosen, why, and what choosing cost.
-  if (const AutoChoice& a = scene.auto_choice; a.tolerance > 0)
-  {
+  if (const AutoChoice& a = scene.auto_choice; a.tolerance > 0) {
     if (a.probe_steps > 0) std::snprintf(buf, sizeof buf, " (the probes took %.3g ms)\n", 1e3 * a.seconds);
     else std::snprintf(buf, sizeof buf, "\n");
     s += "  method auto      tolerance " + format_number(a.tolerance) + " (R's angle + |dOmega|/|Omega|): " + a.reason + buf;

@@ -104,15 +104,21 @@ std::string status_name(RunStatus s) {
   return "?";
 }
 
+// What run() returns for input that does not load: the command's message and exit status.
+py::dict input_error(const InputError& e) {
+  py::dict out;
+  out["error"] = std::string(e.what());
+  out["exit_status"] = exit_bad_input;
+  return out;
+}
+
 py::dict run(const json& document, const std::string& name, const std::string& directory) {
   py::dict out;
   Scene scene;
   try {
     scene = parse_scene(document, name, directory);
   } catch (const InputError& e) {
-    out["error"] = std::string(e.what());
-    out["exit_status"] = exit_bad_input;
-    return out;
+    return input_error(e);
   }
   const std::vector<ColumnGroup> groups = scene.columns;
   scene.columns.clear();  // the standard row; the scene's columns are mapped from it below
@@ -185,10 +191,7 @@ py::dict run_file(const std::string& path) {
   try {
     document = read_json_file(path);
   } catch (const InputError& e) {
-    py::dict out;
-    out["error"] = std::string(e.what());
-    out["exit_status"] = exit_bad_input;
-    return out;
+    return input_error(e);
   }
   return run(document, path, {});
 }
@@ -198,10 +201,7 @@ py::dict run_text(const std::string& text, const std::string& name, const std::s
   try {
     document = parse_json(text, name);
   } catch (const InputError& e) {
-    py::dict out;
-    out["error"] = std::string(e.what());
-    out["exit_status"] = exit_bad_input;
-    return out;
+    return input_error(e);
   }
   return run(document, name, directory);
 }
