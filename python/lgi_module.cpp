@@ -29,6 +29,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace py = pybind11;
@@ -68,15 +69,22 @@ struct Table {
   std::size_t rows = 0;
 };
 
+// The column names of a CSV header row (without its newline).
+std::vector<std::string> split_header(std::string_view header) {
+  std::vector<std::string> names;
+  for (std::size_t from = 0; from <= header.size();) {
+    const std::size_t comma = std::min(header.find(',', from), header.size());
+    names.emplace_back(header.substr(from, comma - from));
+    from = comma + 1;
+  }
+  return names;
+}
+
 Table parse_rows(const std::string& text) {
   Table t;
   std::size_t at = text.find('\n');
   if (at == std::string::npos) return t;
-  for (std::size_t from = 0; from < at;) {
-    const std::size_t comma = std::min(text.find(',', from), at);
-    t.names.push_back(text.substr(from, comma - from));
-    from = comma + 1;
-  }
+  t.names = split_header(std::string_view(text).substr(0, at));
   const char* p = text.c_str() + at + 1;
   while (*p) {
     for (std::size_t k = 0; k < t.names.size(); ++k) {
@@ -150,13 +158,7 @@ py::dict run(const json& document, const std::string& name, const std::string& d
   }
   if (!groups.empty()) {
     std::vector<std::string_view> invariants = scene.problem->invariant_names();
-    const std::string header = column_header(groups, invariants);
-    std::vector<std::string> names;
-    for (std::size_t from = 0; from <= header.size();) {
-      const std::size_t comma = std::min(header.find(',', from), header.size());
-      names.push_back(header.substr(from, comma - from));
-      from = comma + 1;
-    }
+    const std::vector<std::string> names = split_header(column_header(groups, invariants));
     ColumnMapper mapper(groups);
     std::vector<double> v;
     for (std::size_t r = 0; r < t.rows; ++r) mapper.map(std::span<const double>(t.values.data() + r * m, m), v);
