@@ -16,58 +16,77 @@ namespace lgi::app {
 
 namespace {
 
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
+bool is_space(char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; }
 
-std::string trim(std::string s) {
-  const auto not_space = [](unsigned char c) { return !std::isspace(c); };
-  s.erase(s.begin(), std::find_if(s.begin(), s.end(), not_space));
-  s.erase(std::find_if(s.rbegin(), s.rend(), not_space).base(), s.end());
-  return s;
+// The cell [begin, end) of a line without its surrounding white space.
+std::string_view trimmed(const char* begin, const char* end) {
+  while (begin < end && is_space(*begin)) ++begin;
+  while (end > begin && is_space(end[-1])) --end;
+  return {begin, static_cast<std::size_t>(end - begin)};
 }
 
 }  // namespace
 
+CsvStream::CsvStream(std::istream& in, std::string path, std::string_view what) : in_(in), path_(std::move(path)), text_(what) {
+  std::string line;
+  if (!next_line(line)) throw CsvError(path_ + ": empty " + text_ + " (no header row)");
+  const char* p = line.data();
+  const char* const end = p + line.size();
+  for (;;) {
+    const char* comma = std::find(p, end, ',');
+    header_.emplace_back(trimmed(p, comma));
+    if (comma == end) break;
+    p = comma + 1;
+  }
+}
+
+bool CsvStream::next_line(std::string& line) {
+  while (std::getline(in_, line)) {
+    ++line_;
+    if (line_ == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find('\0') != std::string::npos)
+      throw CsvError(path_ + ":" + std::to_string(line_) + ": a NUL byte (not a text file?)");
+    if (!trimmed(line.data(), line.data() + line.size()).empty()) return true;
+  }
+  return false;
+}
+
+bool CsvStream::next(std::vector<double>& row) {
+  std::string line;
+  if (!next_line(line)) return false;
+  const std::size_t count = 1 + static_cast<std::size_t>(std::count(line.begin(), line.end(), ','));
+  if (count != header_.size())
+    throw CsvError(path_ + ":" + std::to_string(line_) + ": row has " + std::to_string(count) + " values, the header " +
+                   std::to_string(header_.size()));
+  row.resize(count);
+  const char* p = line.data();
+  const char* const end = p + line.size();
+  std::string cell;
+  for (std::size_t i = 0; i < count; ++i) {
+    const char* comma = std::find(p, end, ',');
+    cell.assign(trimmed(p, comma));
+    char* stop = nullptr;
+    const double v = std::strtod(cell.c_str(), &stop);
+    if (cell.empty() || stop != cell.c_str() + cell.size() || !std::isfinite(v))
+      throw CsvError(path_ + ":" + std::to_string(line_) + ": column " + header_[i] + ": not a finite number: " +
+                     quoted_input(cell));
+    row[i] = v;
+    p = comma + 1;
+  }
+  return true;
+}
+
 void parse_csv(const std::string& text, const std::string& path, std::vector<std::string>& header,
                std::vector<std::vector<double>>& rows, std::vector<int>& lines, std::string_view what) {
   std::istringstream in(text);
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.find('\0') != std::string::npos)
-      throw CsvError(path + ":" + std::to_string(number) + ": a NUL byte (not a text file?)");
-    if (trim(line).empty()) continue;
-    std::vector<std::string> cells = split_csv_line(line);
-    if (header.empty()) {
-      for (std::string& c : cells) header.push_back(trim(c));
-      continue;
-    }
-    if (cells.size() != header.size())
-      throw CsvError(path + ":" + std::to_string(number) + ": row has " + std::to_string(cells.size()) +
-                     " values, the header " + std::to_string(header.size()));
-    std::vector<double> row;
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-      const std::string c = trim(cells[i]);
-      char* end = nullptr;
-      const double v = std::strtod(c.c_str(), &end);
-      if (c.empty() || end != c.c_str() + c.size() || !std::isfinite(v))
-        throw CsvError(path + ":" + std::to_string(number) + ": column " + header[i] + ": not a finite number: " +
-                       quoted_input(c));
-      row.push_back(v);
-    }
-    rows.push_back(std::move(row));
-    lines.push_back(number);
+  CsvStream csv(in, path, what);
+  header = csv.header();
+  std::vector<double> row;
+  while (csv.next(row)) {
+    rows.push_back(row);
+    lines.push_back(csv.line());
   }
-  if (header.empty()) throw CsvError(path + ": empty " + std::string(what) + " (no header row)");
   if (rows.empty()) throw CsvError(path + ": no data rows after the header");
 }
 

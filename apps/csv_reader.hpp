@@ -5,6 +5,7 @@
 #include "json_reader.hpp"
 
 #include <cstdint>
+#include <istream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,6 +17,26 @@ namespace lgi::app {
 // reported differently.)
 struct CsvError : InputError {
   using InputError::InputError;
+};
+
+// An `lgi run`-style CSV read row by row from a stream (files of any size: `lgi view` reads runs of 10⁶ rows):
+// the header row at construction, then one row per next(). The rules and messages of parse_csv below; `path`
+// names the file in messages, `what` its role.
+class CsvStream {
+ public:
+  CsvStream(std::istream& in, std::string path, std::string_view what = "observations file");
+  const std::vector<std::string>& header() const { return header_; }
+  // The next row's values into `row` (resized to the header's width); false at the end of the stream. Throws
+  // CsvError naming the line.
+  bool next(std::vector<double>& row);
+  int line() const { return line_; }  // the line number of the last row or header read (1-based)
+
+ private:
+  bool next_line(std::string& line);  // the next non-blank line, its BOM, CR and NUL bytes checked
+  std::istream& in_;
+  std::string path_, text_;
+  std::vector<std::string> header_;
+  int line_ = 0;
 };
 
 // The bytes of an `lgi run`-style CSV (`path` for messages, `what` names the file's role: "observations file",
