@@ -33,6 +33,7 @@
 #include "command.hpp"
 #include "command_line.hpp"
 #include "sweep_command.hpp"
+#include "view.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -85,7 +86,33 @@ struct RunCommandOptions {
   bool no_error_estimate = false;  // --no-error-estimate: none for "auto" either
   double tol = 0;  // --tol: "method": "auto" with this tolerance in place of the scene's integrator
   bool tol_given = false;
+  std::string html;  // --html: the page of lgi view of the rows written to -o
 };
+
+struct ViewCommandOptions {
+  std::string csv, output, scene;
+  int axis = 3;
+  std::size_t max_frames = 20000;
+  bool quiet = false;
+};
+
+// `lgi view RUN.csv [-o PAGE.html] [--scene SCENE]` (view.hpp).
+int view_command(const ViewCommandOptions& cmd) {
+  lgi::app::ViewInput input;
+  input.csv = cmd.csv;
+  input.axis = cmd.axis;
+  input.max_frames = cmd.max_frames;
+  std::vector<std::string> inputs;
+  if (!cmd.scene.empty()) {
+    try {
+      input.body = lgi::app::view_body(lgi::app::load_scene(cmd.scene), lgi::app::read_json_file(cmd.scene));
+    } catch (const lgi::app::InputError& e) {
+      return fail(exit_bad_input, e.what());
+    }
+    inputs.push_back(cmd.scene);
+  }
+  return lgi::app::write_view(input, cmd.output, inputs, LGI_VERSION, cmd.quiet);
+}
 
 // --checkpoint-every: "N" steps or "S s" seconds of wall time (e.g. 1000000, 30s, 0.5s).
 bool parse_interval(const std::string& text, std::int64_t& steps, double& seconds) {
@@ -225,6 +252,8 @@ int run_command(const RunCommandOptions& cmd) {
                                     format_number(lgi::app::auto_max_tolerance) + "], got " + format_number(cmd.tol));
   if (cmd.error_estimate && cmd.no_error_estimate)
     return fail(exit_bad_input, "give --error-estimate or --no-error-estimate, not both");
+  if (!cmd.html.empty() && cmd.output.empty() && !resuming)
+    return fail(exit_bad_input, "--html needs -o FILE: the page is made from the rows written there");
   try {
     if (resuming) {
       resume = lgi::app::read_checkpoint(cmd.resume);
@@ -270,6 +299,11 @@ int run_command(const RunCommandOptions& cmd) {
         std::fprintf(stderr, "lgi: warning: %s: %s: %s\n", cmd.scene_file.c_str(), a.where.c_str(), a.what.c_str());
   const std::string output = resuming && cmd.output.empty() ? resume.output.target : cmd.output;
   const std::string checkpoint = resuming && cmd.checkpoint.empty() ? cmd.resume : cmd.checkpoint;
+  if (!cmd.html.empty() && lgi::app::is_streamed_path(output))
+    return fail(exit_bad_input, "--html needs -o FILE, a regular file: the page is made from the rows written there, "
+                                "and " + output + " is not one");
+  if (!cmd.html.empty() && (cmd.html == output || lgi::app::same_file(cmd.html, output)))
+    return fail(exit_bad_input, "--html " + cmd.html + " is the -o file: give the page a name of its own");
   if (resuming && lgi::app::is_streamed_path(output))
     return fail(exit_bad_input, "--resume: -o " + output + " is not a regular file: a resumed run continues the rows of "
                                 "an output file");
@@ -388,6 +422,14 @@ int run_command(const RunCommandOptions& cmd) {
                                    out->temp_path());
   }
   if (!cmd.quiet) std::fputs(lgi::app::brief_report(scene, report).c_str(), stderr);
+  // The page of lgi view (view.hpp) of the rows kept, a complete run's or an incomplete one's.
+  if (!cmd.html.empty() && report.has_rows) {
+    lgi::app::ViewInput view;
+    view.csv = output;
+    view.body = lgi::app::view_body(scene, document);
+    if (const int status = lgi::app::write_view(view, cmd.html, {input}, LGI_VERSION, cmd.quiet); status != 0)
+      return status;
+  }
   // The estimate: asked for, or by default for "auto" (whose tolerance it checks).
   const double tolerance = scene.auto_choice.tolerance;
   if (!cmd.quiet && (cmd.error_estimate || (tolerance > 0 && !cmd.no_error_estimate))) {
@@ -538,6 +580,8 @@ int main(int argc, char** argv) {
                   "Write checkpoints to CK (needs -o): periodically, and where a signal or a budget stops the run");
   run->add_option("--checkpoint-every", run_options.checkpoint_every,
                   "Checkpoint interval: N steps, or Ns seconds of wall time (default 60s)");
+  run->add_option("--html", run_options.html,
+                  "Also write the page of lgi view of the run to PAGE.html (needs -o FILE; docs/viewer.md)");
   run->add_option("--resume", run_options.resume,
                   "Continue the run checkpoint CK stopped, bit for bit (no SCENE; -o defaults to the run's FILE)");
 
@@ -566,13 +610,24 @@ int main(int argc, char** argv) {
   merge->add_option("-o,--output", merge_options.output, "Write the CSV to FILE (atomically)")->required();
   merge->add_flag("-q,--quiet", merge_options.quiet, "Nothing on stderr but errors");
 
+  auto* view = app.add_subcommand("view", "Write one self-contained HTML page that animates a run in 3D (docs/viewer.md)");
+  ViewCommandOptions view_options;
+  view->add_option("RUN", view_options.csv, "The CSV of lgi run (t and R11..R33 or q_w..q_z)")->required();
+  view->add_option("-o,--output", view_options.output,
+                   "The page (default: RUN with .html; an existing file there is replaced only if lgi view wrote it)");
+  view->add_option("--scene", view_options.scene, "The run's scene: the body drawn with its inertia, gravity shown");
+  view->add_option("--axis", view_options.axis, "The body axis whose trace on the unit sphere is drawn (1, 2, 3; default 3)");
+  view->add_option("--max-frames", view_options.max_frames,
+                   "At most this many frames in the page (default 20000; longer runs are decimated, the page says how)");
+  view->add_flag("-q,--quiet", view_options.quiet, "Nothing on stderr but errors");
+
   auto* list = app.add_subcommand("list", "List the problems and methods lgi knows, with their properties");
   bool markdown = false;
   list->add_flag("--markdown", markdown, "Print the method table as markdown (the README's table)");
 
   // Problem types from plugins (apps/plugin.hpp, docs/new_problem.md), for the commands that read scenes.
   std::vector<std::string> plugins;
-  for (auto* sub : {run, fit, sweep, list})
+  for (auto* sub : {run, fit, sweep, view, list})
     lgi::app::add_plugin_option(*sub, plugins);
 
   try {
@@ -585,14 +640,14 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // One line, as every other error: what is wrong, and where help is.
-    const std::string commands = "run, fit, sweep, merge, list";
+    const std::string commands = "run, fit, sweep, merge, view, list";
     if (argc < 2) return fail(exit_bad_input, "give a command: " + commands + " (lgi --help)");
     const std::string first = argv[1];
     bool known = false;
     for (const auto* sub : app.get_subcommands({})) known = known || sub->get_name() == first;
     if (!known && !first.empty() && first[0] != '-')
       return fail(exit_bad_input, "unknown command " + lgi::app::quoted_input(first) +
-                                      lgi::app::did_you_mean(first, {"run", "fit", "sweep", "merge", "list"}) + " (commands: " +
+                                      lgi::app::did_you_mean(first, {"run", "fit", "sweep", "merge", "view", "list"}) + " (commands: " +
                                       commands + "; lgi --help)");
     std::string where = "lgi";
     for (const auto* sub : app.get_subcommands()) where += " " + sub->get_name();
@@ -616,6 +671,7 @@ int main(int argc, char** argv) {
       return lgi::app::sweep_command(sweep_options);
     }
     if (merge->parsed()) return lgi::app::merge_command(merge_options);
+    if (view->parsed()) return view_command(view_options);
     if (list->parsed()) return list_command(markdown);
     return 0;
   });

@@ -24,6 +24,8 @@ packages=(
   libopenmpi-dev openmpi-bin  # lgi_sweep_mpi (optional, apps/sweep_mpi.cpp): Open MPI, and mpirun for its test
   doxygen               # the API reference (docs target) and its api_reference test (docs/Doxyfile.in)
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python package (python/) and its tests
+  libjs-three           # lgi view: three.js r111, inlined into the pages it writes (apps/view.hpp)
+  chromium              # lgi view's browser test (tests/viewer): Debian's Chromium, headless
 )
 # shellcheck disable=SC2206
 packages+=(${LGI_DEPS_EXTRA:-})

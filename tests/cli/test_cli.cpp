@@ -712,3 +712,108 @@ TEST_F(Cli, AttitudeSlewReachesItsTarget) {
 }
 
 }  // namespace
+
+// `lgi view` (apps/view.hpp): what is not the CSV of a run gets one line naming the file and what is missing, exit
+// 1, and nothing is written.
+TEST_F(Cli, ViewRefusesWhatIsNotARunWithOneLineAndWritesNothing) {
+  const std::string R = "R11,R12,R13,R21,R22,R23,R31,R32,R33";
+  const std::string I = "1,0,0,0,1,0,0,0,1";
+  const struct {
+    std::string name, bytes, message;
+  } cases[] = {
+      {"not_a_run.csv", "a,b\n1,2\n", "not_a_run.csv: no column t: lgi view needs the CSV of lgi run"},
+      {"no_attitude.csv", "t,omega1,omega2,omega3\n0,1,2,3\n", "no_attitude.csv: no column R11 or q_w"},
+      {"half_R.csv", "t,R11,R12\n0,1,0\n", "half_R.csv: no column R13 (R11 is there)"},
+      {"half_q.csv", "t,q_w,q_x\n0,1,0\n", "half_q.csv: no column q_y (q_w is there)"},
+      {"backwards.csv", "t," + R + "\n0," + I + "\n1," + I + "\n0.5," + I + "\n",
+       "backwards.csv:4: t = 0.5 is before the previous row's t = 1: not the rows of one run"},
+      {"text.csv", "Dear diary, today the top fell over.\n", "text.csv: no column t"},
+      {"empty.csv", "", "empty.csv: empty CSV of a run (no header row)"},
+      {"header_only.csv", "t," + R + "\n", "header_only.csv: no data rows after the header"},
+      {"bad_number.csv", "t," + R + "\n0,1,abc,0,0,1,0,0,0,1\n", "bad_number.csv:2: column R12: not a finite number: \"abc\""},
+      {"short_row.csv", "t," + R + "\n0,1,0\n", "short_row.csv:2: row has 3 values, the header 10"},
+      {"nul.csv", std::string("t,q_w,q_x,q_y,q_z\n0,1,0,0,") + '\0' + "\n", "nul.csv:2: a NUL byte"},
+      {"zero_q.csv", "t,q_w,q_x,q_y,q_z\n0,0,0,0,0\n", "zero_q.csv:2: the quaternion has length 0, not 1"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const fs::path csv = write(c.name, c.bytes);
+    std::vector<fs::path> before;
+    for (const auto& e : fs::directory_iterator(dir_)) before.push_back(e.path());
+    const Result r = lgi("view " + csv.string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_TRUE(r.out.empty());
+    std::vector<fs::path> after;
+    for (const auto& e : fs::directory_iterator(dir_)) after.push_back(e.path());
+    std::sort(before.begin(), before.end());
+    std::sort(after.begin(), after.end());
+    EXPECT_EQ(after, before) << "lgi view wrote a file";
+  }
+  const Result missing = lgi("view " + (dir_ / "no_such.csv").string());
+  EXPECT_EQ(missing.status, 1);
+  EXPECT_NE(missing.err.find("no_such.csv: cannot read the run"), std::string::npos) << missing.err;
+}
+
+TEST_F(Cli, ViewWritesOnePageAndReplacesOnlyItsOwnOrWhatItIsToldTo) {
+  SceneText s;
+  s.rest = R"("t_end": 1.0, "output": {"every": 1})";
+  const fs::path scene = write("top.json", std::string(s));
+  const fs::path csv = dir_ / "run.csv", page = dir_ / "run.html";
+  ASSERT_EQ(lgi("run -q " + scene.string() + " -o " + csv.string()).status, 0);
+  const std::string rows = slurp(csv);
+
+  // The default page: RUN with .html; the summary line; the marker; decimated to --max-frames with t_end kept.
+  const Result first = lgi("view " + csv.string() + " --scene " + scene.string() + " --max-frames 10");
+  if (first.err.find("built without three.js") != std::string::npos) GTEST_SKIP() << first.err;
+  ASSERT_EQ(first.status, 0) << first.err;
+  EXPECT_NE(first.err.find("run.html: 1001 rows shown as 10 frames, t = 0 ... 1,"), std::string::npos) << first.err;
+  const std::string html = slurp(page);
+  EXPECT_NE(html.find("<meta name=\"generator\" content=\"lgi view\">"), std::string::npos);
+  EXPECT_NE(html.find("\"frames\":10,"), std::string::npos);
+  EXPECT_NE(html.find("\"t_end\":1.0,"), std::string::npos);
+  EXPECT_NE(html.find("\"problem\":\"heavy_top\""), std::string::npos);
+  std::size_t opened = 0, closed = 0;
+  for (std::size_t at = 0; (at = html.find("<script", at)) != std::string::npos; ++at) ++opened;
+  for (std::size_t at = 0; (at = html.find("</script", at)) != std::string::npos; ++at) ++closed;
+  EXPECT_EQ(opened, 5u);
+  EXPECT_EQ(closed, 5u) << "an inlined script has an early </script";
+  // Its own page is replaced by the next view.
+  ASSERT_EQ(lgi("view -q " + csv.string()).status, 0);
+  EXPECT_NE(slurp(page).find("\"known\":false"), std::string::npos);
+
+  // A file lgi did not write at the default name stays; -o replaces what it names, never the run or the scene.
+  const fs::path other_csv = dir_ / "other.csv", other_page = dir_ / "other.html";
+  fs::copy_file(csv, other_csv);
+  std::ofstream(other_page) << "my notes\n";
+  const Result refused = lgi("view " + other_csv.string());
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_NE(refused.err.find("other.html exists and is not a page of lgi view: lgi does not replace it (give -o "),
+            std::string::npos) << refused.err;
+  EXPECT_EQ(slurp(other_page), "my notes\n");
+  EXPECT_EQ(lgi("view -q " + other_csv.string() + " -o " + other_page.string()).status, 0);
+  EXPECT_NE(slurp(other_page).find("lgi view"), std::string::npos);
+  for (const fs::path& input : {csv, scene}) {
+    const Result self = lgi("view " + csv.string() + " --scene " + scene.string() + " -o " + input.string());
+    EXPECT_EQ(self.status, 1);
+    EXPECT_NE(self.err.find("lgi does not replace its input"), std::string::npos) << self.err;
+  }
+  EXPECT_EQ(slurp(csv), rows);
+  EXPECT_EQ(lgi("view " + csv.string() + " --axis 4").status, 1);
+  EXPECT_EQ(lgi("view " + csv.string() + " --max-frames 1").status, 1);
+
+  // lgi run --html: the page of the rows written to -o, which it needs.
+  const fs::path run_page = dir_ / "direct.html";
+  const Result direct = lgi("run -q " + scene.string() + " -o " + (dir_ / "direct.csv").string() + " --html " +
+                            run_page.string());
+  ASSERT_EQ(direct.status, 0) << direct.err;
+  EXPECT_NE(slurp(run_page).find("\"frames\":1001,"), std::string::npos);
+  const Result no_output = lgi("run -q " + scene.string() + " --html " + run_page.string());
+  EXPECT_EQ(no_output.status, 1);
+  EXPECT_NE(no_output.err.find("--html needs -o FILE"), std::string::npos) << no_output.err;
+  EXPECT_TRUE(no_output.out.empty());
+  const Result same = lgi("run -q " + scene.string() + " -o " + csv.string() + " --html " + csv.string());
+  EXPECT_EQ(same.status, 1);
+  EXPECT_EQ(slurp(csv), rows);
+}
