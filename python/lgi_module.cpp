@@ -16,6 +16,8 @@
 #include "run_messages.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
+#include "version.hpp"
+#include "view.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -208,6 +210,44 @@ py::dict run_text(const std::string& text, const std::string& name, const std::s
   return run(document, name, directory);
 }
 
+// lgi.view: the page of `lgi view` of the run's CSV at `csv` (view.hpp), written to `output`; the body from the scene
+// (`scene_text`, JSON; empty: not known). {"rows", "frames", "bytes"}, or {"error", "exit_status"} as the command.
+py::dict view(const std::string& csv, const std::string& scene_text, const std::string& scene_name,
+              const std::string& directory, const std::string& output, int axis, std::size_t max_frames) {
+  ViewInput input;
+  input.csv = csv;
+  input.axis = axis;
+  input.max_frames = max_frames;
+  ViewReport report;
+  std::string page;
+  try {
+    if (!scene_text.empty()) {
+      const json document = parse_json(scene_text, scene_name);
+      input.body = view_body(parse_scene(document, scene_name, directory), document);
+    }
+    page = make_view_page(input, LGI_VERSION_STRING, &report) + "\n";
+  } catch (const InputError& e) {
+    return input_error(e);
+  }
+  py::dict out;
+  try {
+    OutputFile file(output);
+    if (!file.write_record(page) || !file.commit()) {
+      out["error"] = file.display_name() + ": cannot write the page: " + file.error_text();
+      out["exit_status"] = exit_io_error;
+      return out;
+    }
+  } catch (const OutputError& e) {
+    out["error"] = std::string(e.what());
+    out["exit_status"] = exit_io_error;
+    return out;
+  }
+  out["rows"] = report.rows;
+  out["frames"] = report.frames;
+  out["bytes"] = page.size();
+  return out;
+}
+
 py::list methods() {
   py::list list;
   for (const MethodInfo& m : method_registry()) {
@@ -252,6 +292,8 @@ PYBIND11_MODULE(_lgi, m) {
   m.doc() = "lgi's engine (lgi run) for Python; use the package lgi";
   m.def("run_file", &lgi::app::run_file, py::arg("path"));
   m.def("run_text", &lgi::app::run_text, py::arg("text"), py::arg("name"), py::arg("directory"));
+  m.def("view", &lgi::app::view, py::arg("csv"), py::arg("scene_text"), py::arg("scene_name"), py::arg("directory"),
+        py::arg("output"), py::arg("axis"), py::arg("max_frames"));
   m.def("methods", &lgi::app::methods);
   m.def("problems", &lgi::app::problems);
 }

@@ -67,6 +67,7 @@ class Result:
         self.steps = raw["steps"]
         self.wall_seconds = raw["wall_seconds"]
         self.method = raw["method"]
+        self._names, self._data, self._scene = names, data, None  # for view()
 
     def __repr__(self):
         return "<lgi.Result %s: %d rows to t = %g, %s>" % (self.method, len(self.t), self.t[-1] if len(self.t) else 0,
@@ -93,9 +94,56 @@ def run(scene):
     if "data" not in raw:
         raise InputError(raw["error"], raw["exit_status"])
     result = Result(raw)
+    result._scene = scene
     if raw["exit_status"] != 0:
         raise RunError(raw["error"], raw["exit_status"], result)
     return result
+
+
+def _scene_text(scene):
+    """(JSON text, name, directory) of a scene given as a path or a dict; ("", "", "") for None."""
+    if scene is None:
+        return "", "", ""
+    if isinstance(scene, (str, bytes, _os.PathLike)):
+        path = _os.fsdecode(scene)
+        try:
+            with open(path, encoding="utf-8") as f:
+                return f.read(), path, _os.path.dirname(_os.path.abspath(path))
+        except OSError as e:
+            raise InputError("%s: cannot read the scene: %s" % (path, e.strerror), 1) from None
+    if isinstance(scene, dict):
+        return _json.dumps(scene, allow_nan=True), "<dict>", _os.getcwd()
+    raise TypeError("lgi.view: scene: expected a scene file's path or a dict, got %s" % type(scene).__name__)
+
+
+def view(run, path, scene=None, axis=3, max_frames=20000):
+    """Write the page of `lgi view` (docs/viewer.md): one self-contained HTML file that animates the run in 3D.
+
+    run: a Result of lgi.run (its scene draws the body), or the path of a run's CSV (then `scene`, a path or a dict,
+    draws the body; without it a box stands in). path: the page to write (replaced atomically). axis: the body axis
+    whose trace is drawn (1, 2, 3); max_frames: the most frames in the page (longer runs are decimated).
+    Returns path. Raises InputError (a ValueError) for what `lgi view` refuses, LgiError when the page cannot be
+    written.
+    """
+    import tempfile
+    out = _os.fsdecode(path)
+    if isinstance(run, Result):
+        import numpy as np
+        text, name, directory = _scene_text(run._scene if scene is None else scene)
+        with tempfile.TemporaryDirectory(prefix="lgi_view_") as work:
+            csv = _os.path.join(work, "run.csv")
+            np.savetxt(csv, run._data, fmt="%.17g", delimiter=",", header=",".join(run._names), comments="")
+            raw = _lgi.view(csv, text, name, directory, out, int(axis), int(max_frames))
+    elif isinstance(run, (str, bytes, _os.PathLike)):
+        text, name, directory = _scene_text(scene)
+        raw = _lgi.view(_os.fsdecode(run), text, name, directory, out, int(axis), int(max_frames))
+    else:
+        raise TypeError("lgi.view: expected a Result of lgi.run or a run's CSV path, got %s" % type(run).__name__)
+    if "error" in raw:
+        if raw["exit_status"] == 1:
+            raise InputError(raw["error"], 1)
+        raise LgiError(raw["error"], raw["exit_status"])
+    return out
 
 
 def methods():

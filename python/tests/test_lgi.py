@@ -186,3 +186,31 @@ def test_no_memory_growth_over_ten_thousand_calls():
     for _ in range(10000):
         lgi.run(scene)
     assert rss_bytes() - before < 8 << 20
+
+
+def test_view_writes_the_page_of_lgi_view(tmp_path):
+    """lgi.view(result) gives the page `lgi view` gives for the command's CSV and scene; bad input raises ValueError."""
+    scene = os.path.join(SOURCE, "scenes", "wheel_slew.json")
+    result = lgi.run(scene)
+    page = tmp_path / "from_python.html"
+    assert lgi.view(result, page) == str(page)
+    csv, command_page = tmp_path / "run.csv", tmp_path / "run.html"
+    done = subprocess.run([LGI, "run", "-q", scene, "-o", str(csv), "--html", str(command_page)], capture_output=True,
+                          text=True)
+    assert done.returncode == 0, done.stderr
+    # The same page but for the CSV's file name, which the page names.
+    assert page.read_text().replace("run.csv", "X") == command_page.read_text().replace("run.csv", "X")
+    assert lgi.view(str(csv), tmp_path / "from_csv.html", scene=scene).endswith("from_csv.html")
+    assert (tmp_path / "from_csv.html").read_text() == command_page.read_text()
+    bare = tmp_path / "bare.html"
+    lgi.view(str(csv), bare, axis=1, max_frames=5)
+    assert '"known":false' in bare.read_text() and '"frames":5,' in bare.read_text()
+    not_a_run = tmp_path / "notes.csv"
+    not_a_run.write_text("a,b\n1,2\n")
+    with pytest.raises(ValueError, match="notes.csv: no column t"):
+        lgi.view(str(not_a_run), tmp_path / "never.html")
+    with pytest.raises(ValueError, match="--axis: must be 1, 2 or 3"):
+        lgi.view(result, tmp_path / "never.html", axis=0)
+    with pytest.raises(ValueError, match="unknown-problem|/problem/type"):
+        lgi.view(str(csv), tmp_path / "never.html", scene={"problem": {"type": "unknown-problem"}})
+    assert not (tmp_path / "never.html").exists()
