@@ -90,7 +90,7 @@ OutputFile::OutputFile(const std::string& path) : path_(path) {
     fd_ = create_temporary_beside(target_, temp_);
     if (fd_ < 0) throw OutputError(path + ": cannot create the output file: " + std::strerror(errno));
   }
-  buffer_ = std::make_unique<char[]>(buffer_size);
+  buffer_ = std::make_unique_for_overwrite<char[]>(buffer_size);  // not zeroed: only written bytes are read
 }
 
 OutputFile::~OutputFile() {
