@@ -228,7 +228,7 @@ int fit_command(const FitCommandOptions& options) {
   const std::string& file = options.fit_file;
   FitSpec spec;
   try {
-    spec = read_fit_file(file);
+    spec = options.document ? parse_fit_document(*options.document, file) : read_fit_file(file);
   } catch (const CsvError& e) {
     return fail(exit_bad_input, file + ": " + e.what());
   } catch (const InputError& e) {

@@ -266,7 +266,7 @@ int sweep_command(const SweepCommandOptions& options) {
   if (options.output.empty()) return fail(exit_bad_input, "sweep: -o FILE is required");
   Sweep s;
   try {
-    s = read_sweep(options.sweep_file);
+    s = options.document ? parse_sweep(*options.document, options.sweep_file) : read_sweep(options.sweep_file);
   } catch (const InputError& e) {
     return fail(exit_bad_input, e.what());
   }

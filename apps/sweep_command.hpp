@@ -64,6 +64,8 @@
 // the output). A worker thread the system refuses is a warning: the sweep goes on with the others (same bytes).
 #pragma once
 
+#include "json_reader.hpp"
+
 #include <cstdint>
 #include <csignal>
 #include <string>
@@ -73,6 +75,10 @@ namespace lgi::app {
 
 struct SweepCommandOptions {
   std::string sweep_file;
+  // When set, the sweep is this document (parse_sweep), not sweep_file's contents: sweep_file then only names it in
+  // messages, and file names in it resolve from sweep_file's directory (the current one for a name without one,
+  // such as "<dict>"). The Python package's lgi.sweep.
+  const json* document = nullptr;
   std::string output;  // required
   int threads = 1;     // 0: std::thread::hardware_concurrency()
   std::string shard;   // "i/N"; empty: all members
