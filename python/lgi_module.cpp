@@ -9,15 +9,29 @@
 // quaternion always. Returned as a dict of numpy arrays and the summary; errors are returned, not raised (the
 // package raises them): "error" holds the command's one-line message and "exit_status" its exit status.
 //
-// methods() / problems(): the registry `lgi list` prints.
+// view(...): the page of `lgi view`. Batch: many bodies by the batched kernels (core/batch.hpp).
+// load_plugin(path): a plugin's problem types (this module is loaded RTLD_GLOBAL so that the plugin finds lgi's
+// functions in it, as it finds them in the lgi executable). methods() / problems(): the registry `lgi list` prints.
 #include "output_columns.hpp"
+#include "plugin_loader.hpp"
 #include "output_file.hpp"
 #include "registry.hpp"
 #include "run_messages.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
+#ifdef LGI_PYTHON_FIT
+#include "csv_reader.hpp"
+#include "fit_command.hpp"
+#include "fit_file.hpp"
+#endif
+#include "sweep_command.hpp"
+#include "sweep_file.hpp"
 #include "version.hpp"
 #include "view.hpp"
+
+#include <lgi/core/batch.hpp>
+#include <lgi/integrators/batch_lgvi.hpp>
+#include <lgi/integrators/batch_rkmk.hpp>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -27,6 +41,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -248,6 +263,214 @@ py::dict view(const std::string& csv, const std::string& scene_text, const std::
   return out;
 }
 
+// lgi.Batch: N bodies of one heavy_top or free_body problem (`problem_text`: the scene's "problem" object as JSON)
+// held in structure-of-arrays form (core/batch.hpp) between calls, stepped by the batched kernels of `method` (lgvi:
+// integrators/batch_lgvi.hpp, rkmk4: batch_rkmk.hpp) with the GIL released. R0 (N × 3 × 3) and omega0 (N × 3) are
+// C-ordered float64 (the package checks their shapes and values); b (N, or empty): each body's b (heavy_top).
+// Bad arguments raise ValueError with the scene loader's or the kernels' message.
+class Batch {
+ public:
+  Batch(const std::string& problem_text, const py::array_t<double, py::array::c_style | py::array::forcecast>& R0,
+        const py::array_t<double, py::array::c_style | py::array::forcecast>& omega0, double h, const std::string& method,
+        const py::array_t<double, py::array::c_style | py::array::forcecast>& b, int threads, const std::string& kernel)
+      : h_(h), method_(method) {
+    const auto n = static_cast<std::size_t>(R0.ndim() > 0 ? R0.shape(0) : 0);
+    if (R0.ndim() != 3 || R0.shape(1) != 3 || R0.shape(2) != 3 || omega0.ndim() != 2 ||
+        static_cast<std::size_t>(omega0.shape(0)) != n || omega0.shape(1) != 3 ||
+        (b.size() != 0 && static_cast<std::size_t>(b.size()) != n))
+      throw py::value_error("lgi.Batch: R0 must be N x 3 x 3, omega0 N x 3 and b N (or None)");
+    try {
+      json document;
+      document["problem"] = parse_json(problem_text, "problem");
+      document["initial"] = json{{"omega", {0, 0, 0}}};
+      document["integrator"] = json{{"method", method}, {"dt", h}};
+      document["t_end"] = h;
+      scene_ = parse_scene(document, "<batch>", {});
+    } catch (const InputError& e) {
+      throw py::value_error(e.what());
+    }
+    top_ = problem_as<HeavyTop<double>>(*scene_.problem);
+    free_ = problem_as<FreeBody<double>>(*scene_.problem);
+    if (!top_ && !free_)
+      throw py::value_error("lgi.Batch: the batched kernels take heavy_top and free_body problems, not " +
+                            std::string(scene_.problem->type_name()) + " (run its bodies one by one with lgi.integrate)");
+    if (method != "lgvi" && method != "rkmk4")
+      throw py::value_error("lgi.Batch: method must be lgvi or rkmk4 (the batched kernels), got " + quoted_input(method));
+    bool known = false;
+    for (const BatchKernel k : {BatchKernel::automatic, BatchKernel::baseline, BatchKernel::avx2, BatchKernel::avx512,
+                                BatchKernel::per_body})
+      if (kernel == to_string(k)) {
+        kernel_ = k;
+        known = true;
+      }
+    if (!known)
+      throw py::value_error("lgi.Batch: kernel must be automatic, baseline, avx2, avx512 or per_body, got " +
+                            quoted_input(kernel));
+    options_.threads = threads;
+    b_.assign(b.data(), b.data() + b.size());
+    bodies_.resize(n);
+    const double* r = R0.data();
+    const double* w = omega0.data();
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t e = 0; e < 9; ++e) bodies_.R[e][i] = r[9 * i + e];
+      for (std::size_t j = 0; j < 3; ++j) bodies_.Omega[j][i] = w[3 * i + j];
+    }
+  }
+
+  // n_steps steps of h for every body that has not stopped (the GIL released); returns the kernels' wall time.
+  double step(std::int64_t n_steps) {
+    std::string error;
+    double seconds = 0;
+    {
+      py::gil_scoped_release released;
+      const auto start = std::chrono::steady_clock::now();
+      const std::span<const double> b(b_);
+      try {
+        if (top_ && method_ == "lgvi") ran_ = integrate_batch_lgvi(*top_, bodies_, t_, h_, n_steps, scene_.options, options_, b, kernel_);
+        else if (top_) ran_ = integrate_batch_rkmk4(*top_, bodies_, t_, h_, n_steps, scene_.options, options_, b, kernel_);
+        else if (method_ == "lgvi") ran_ = integrate_batch_lgvi(*free_, bodies_, t_, h_, n_steps, scene_.options, options_, b, kernel_);
+        else ran_ = integrate_batch_rkmk4(*free_, bodies_, t_, h_, n_steps, scene_.options, options_, b, kernel_);
+      } catch (const std::invalid_argument& e) {
+        error = e.what();
+      }
+      seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    if (!error.empty()) throw py::value_error(error);
+    t_ += static_cast<double>(n_steps) * h_;
+    return seconds;
+  }
+
+  std::size_t size() const { return bodies_.size(); }
+  double t() const { return t_; }
+  std::string kernel() const { return to_string(ran_); }
+  py::array_t<double> R() const {
+    const std::size_t n = size();
+    py::array_t<double> out({static_cast<py::ssize_t>(n), py::ssize_t{3}, py::ssize_t{3}});
+    double* p = out.mutable_data();
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t e = 0; e < 9; ++e) p[9 * i + e] = bodies_.R[e][i];
+    return out;
+  }
+  py::array_t<double> omega() const {
+    const std::size_t n = size();
+    py::array_t<double> out({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+    double* p = out.mutable_data();
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < 3; ++j) p[3 * i + j] = bodies_.Omega[j][i];
+    return out;
+  }
+  // StepStatus codes (status_names() names them).
+  py::array_t<std::uint8_t> status() const {
+    py::array_t<std::uint8_t> out(static_cast<py::ssize_t>(size()));
+    std::uint8_t* p = out.mutable_data();
+    for (std::size_t i = 0; i < size(); ++i) p[i] = static_cast<std::uint8_t>(bodies_.status[i]);
+    return out;
+  }
+  static std::vector<std::string> status_names() {
+    static_assert(static_cast<int>(StepStatus::step_size_underflow) == 3);
+    return {"ok", "not_converged", "non_finite", "step_size_underflow"};
+  }
+  // Good steps each body took in the last step() call.
+  py::array_t<std::int64_t> steps() const {
+    py::array_t<std::int64_t> out(static_cast<py::ssize_t>(size()));
+    std::copy(bodies_.steps.begin(), bodies_.steps.end(), out.mutable_data());
+    return out;
+  }
+
+ private:
+  Scene scene_;  // keeps the problem alive
+  const HeavyTop<double>* top_ = nullptr;
+  const FreeBody<double>* free_ = nullptr;
+  double h_, t_ = 0;
+  std::string method_;
+  BatchKernel kernel_ = BatchKernel::automatic, ran_ = BatchKernel::automatic;
+  BatchOptions options_;
+  std::vector<double> b_;
+  BodyBatch bodies_;
+};
+
+// lgi.sweep: the sweep `document` (a sweep file's JSON; `name` names it in messages and its directory resolves file
+// names) run by `lgi sweep` (sweep_command.hpp) on `threads` threads with the GIL released, its CSV written into
+// memory. {"csv": the CSV's text} or {"error", "exit_status"}.
+py::dict sweep(const std::string& text, const std::string& name, int threads) {
+  json document;
+  try {
+    document = parse_json(text, name);
+    const Sweep s = parse_sweep(document, name);  // the command's checks, with their messages, before it runs
+    if (s.records(Record::crossings))
+      throw InputError(name + ": /sweep/section: lgi.sweep does not take crossings yet (they go to a file of their "
+                       "own): run lgi sweep -o FILE");
+  } catch (const InputError& e) {
+    return input_error(e);
+  }
+  MemoryFile memory;
+  SweepCommandOptions options;
+  options.sweep_file = name;
+  options.document = &document;
+  options.output = memory.path();
+  options.threads = threads;
+  options.quiet = true;
+  int status = 0;
+  {
+    py::gil_scoped_release released;
+    status = sweep_command(options);
+  }
+  py::dict out;
+  if (status != 0) {
+    out["error"] = name + ": lgi sweep failed (exit status " + std::to_string(status) + "; its message is on stderr)";
+    out["exit_status"] = status;
+    return out;
+  }
+  out["csv"] = py::bytes(memory.contents());
+  return out;
+}
+
+#ifdef LGI_PYTHON_FIT
+// lgi.fit: the fit `document` (a fit file's JSON; `name` names it in messages and its directory resolves file names)
+// run by `lgi fit` (fit_command.hpp) with the GIL released, its result JSON written into memory. {"result": the
+// JSON text, "exit_status": 0, 5 (not usable) or 6 (budget)} or {"error", "exit_status"}.
+py::dict fit(const std::string& text, const std::string& name) {
+  json document;
+  try {
+    document = parse_json(text, name);
+    (void)parse_fit_document(document, name);  // the command's checks, with their messages, before it runs
+  } catch (const CsvError& e) {
+    return input_error(InputError(name + ": " + e.what()));
+  } catch (const InputError& e) {
+    return input_error(e);
+  }
+  MemoryFile memory;
+  FitCommandOptions options;
+  options.fit_file = name;
+  options.document = &document;
+  options.output = memory.path();
+  options.quiet = true;
+  int status = 0;
+  {
+    py::gil_scoped_release released;
+    status = fit_command(options);
+  }
+  py::dict out;
+  const std::string result = memory.contents();
+  out["exit_status"] = status;
+  if (result.empty())
+    out["error"] = name + ": lgi fit failed (exit status " + std::to_string(status) + "; its message is on stderr)";
+  else
+    out["result"] = result;
+  return out;
+}
+#endif
+
+// lgi.load_plugin: the problem types of the plugin at `path` (plugin_loader.hpp); {} or {"error", "exit_status"}.
+py::dict plugin(const std::string& path) {
+  try {
+    load_plugin(path);
+  } catch (const InputError& e) {
+    return input_error(e);
+  }
+  return {};
+}
+
 py::list methods() {
   py::list list;
   for (const MethodInfo& m : method_registry()) {
@@ -294,6 +517,26 @@ PYBIND11_MODULE(_lgi, m) {
   m.def("run_text", &lgi::app::run_text, py::arg("text"), py::arg("name"), py::arg("directory"));
   m.def("view", &lgi::app::view, py::arg("csv"), py::arg("scene_text"), py::arg("scene_name"), py::arg("directory"),
         py::arg("output"), py::arg("axis"), py::arg("max_frames"));
+  py::class_<lgi::app::Batch>(m, "Batch")
+      .def(py::init<const std::string&, const py::array_t<double, py::array::c_style | py::array::forcecast>&,
+                    const py::array_t<double, py::array::c_style | py::array::forcecast>&, double, const std::string&,
+                    const py::array_t<double, py::array::c_style | py::array::forcecast>&, int, const std::string&>(),
+           py::arg("problem_text"), py::arg("R0"), py::arg("omega0"), py::arg("h"), py::arg("method"), py::arg("b"),
+           py::arg("threads"), py::arg("kernel"))
+      .def("step", &lgi::app::Batch::step, py::arg("n_steps"))
+      .def_property_readonly("size", &lgi::app::Batch::size)
+      .def_property_readonly("t", &lgi::app::Batch::t)
+      .def_property_readonly("kernel", &lgi::app::Batch::kernel)
+      .def_property_readonly("R", &lgi::app::Batch::R)
+      .def_property_readonly("omega", &lgi::app::Batch::omega)
+      .def_property_readonly("status", &lgi::app::Batch::status)
+      .def_property_readonly("steps", &lgi::app::Batch::steps)
+      .def_static("status_names", &lgi::app::Batch::status_names);
+  m.def("load_plugin", &lgi::app::plugin, py::arg("path"));
+  m.def("sweep", &lgi::app::sweep, py::arg("text"), py::arg("name"), py::arg("threads"));
+#ifdef LGI_PYTHON_FIT
+  m.def("fit", &lgi::app::fit, py::arg("text"), py::arg("name"));
+#endif
   m.def("methods", &lgi::app::methods);
   m.def("problems", &lgi::app::problems);
 }

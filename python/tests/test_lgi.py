@@ -214,3 +214,199 @@ def test_view_writes_the_page_of_lgi_view(tmp_path):
     with pytest.raises(ValueError, match="unknown-problem|/problem/type"):
         lgi.view(str(csv), tmp_path / "never.html", scene={"problem": {"type": "unknown-problem"}})
     assert not (tmp_path / "never.html").exists()
+
+
+TOP = dict(inertia=[2.0, 2.0, 1.0], b=1.0, k=[0.0, 0.6, 0.8], z0=[0.0, 0.0, 1.0])
+
+
+def test_problems_are_classes_and_integrate_runs_their_scene():
+    top = lgi.HeavyTop(**TOP)
+    assert isinstance(top, lgi.Problem) and top.scene() == {"type": "heavy_top", **TOP}
+    assert {"FreeBody", "HeavyTop", "LagrangeTop", "RigidBody", "Gyrostat"} <= set(lgi.__all__)
+    R0 = lgi.run({"problem": {"type": "free_body", "inertia": [1, 2, 3]}, "initial": {"axis_angle": {
+        "axis": [1, 2, 2], "angle": 0.4}, "omega": [0, 0, 0]}, "integrator": {"method": "lgvi", "dt": 1}, "t_end": 0}).R[0]
+    r = lgi.integrate(top, R0=R0, omega0=np.array([0.1, 0.2, 5.0]), t=[0.5, 1.0, 2.0], method="lgvi", dt=0.001)
+    same = lgi.run({"problem": top.scene(), "initial": {"R": R0.tolist(), "omega": [0.1, 0.2, 5.0]},
+                    "integrator": {"method": "lgvi", "dt": 0.001}, "t_end": 2.0, "output": {"times": [0.5, 1.0]}})
+    assert np.array_equal(r.t, [0.0, 0.5, 1.0, 2.0])
+    for name in same.columns:
+        assert np.array_equal(r.columns[name], same.columns[name]), name
+    auto = lgi.integrate(top, quaternion0=[1, 0, 0, 0], omega0=[0.1, 0.2, 5.0], t=3.0, tolerance=1e-8)
+    assert auto.method == "rkmk_vern9_cayley" and np.array_equal(auto.t, [0.0, 3.0])
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(omega0=[1, 2]), "omega0: expected shape 3, got 2"),
+    (dict(omega0=[1, float("nan"), 2]), r"omega0\[1\]: not finite"),
+    (dict(R0=np.eye(2)), "R0: expected shape 3 x 3, got 2 x 2"),
+    (dict(R0=np.eye(3), quaternion0=[1, 0, 0, 0]), "give R0 or quaternion0, not both"),
+    (dict(t=[1.0, 0.5]), "t: the output times must increase"),
+    (dict(t=np.array([])), "t: no output times"),
+    (dict(omega0="fast"), "omega0: not an array of numbers"),
+    (dict(method="lgvi"), "/integrator"),
+])
+def test_integrate_refuses_bad_arguments_naming_them(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        lgi.integrate(lgi.HeavyTop(**TOP), **kwargs)
+    with pytest.raises(ValueError, match="/problem/bb"):
+        lgi.integrate(lgi.HeavyTop(bb=1, **TOP), omega0=[0, 0, 1], t=1.0)
+
+
+def random_bodies(n, seed=7):
+    rng = np.random.default_rng(seed)
+    omega = rng.normal(size=(n, 3))
+    omega[:, 2] += 5.0
+    R = np.array([lgi.run({"problem": {"type": "free_body", "inertia": [1, 2, 3]},
+                           "initial": {"axis_angle": {"axis": rng.normal(size=3).tolist(), "angle": float(rng.uniform(0, 3))},
+                                       "omega": [0, 0, 0]},
+                           "integrator": {"method": "lgvi", "dt": 1}, "t_end": 0}).R[0] for _ in range(n)])
+    return R, omega
+
+
+@pytest.mark.parametrize("method", ["lgvi", "rkmk4"])
+def test_a_batch_equals_its_bodies_run_one_by_one_to_the_bit(method):
+    top = lgi.HeavyTop(**TOP)
+    R, omega = random_bodies(19)
+    b = np.linspace(0.5, 1.5, 19)
+    ones = [lgi.integrate(lgi.HeavyTop(**dict(TOP, b=b[i])), R0=R[i], omega0=omega[i], t=0.5, method=method, dt=0.01)
+            for i in range(19)]
+    R = np.array([one.R[0] for one in ones])  # the loader's R (an R read from a scene is made exact)
+    for kernel in ("automatic", "baseline", "per_body"):
+        many = lgi.integrate_batch(top, R, omega, dt=0.01, steps=50, method=method, b=b, kernel=kernel)
+        assert list(many.status) == ["ok"] * 19 and np.all(many.steps == 50)
+        for i, one in enumerate(ones):
+            assert np.array_equal(many.R[i], one.R[-1]), (kernel, i)
+            assert np.array_equal(many.omega[i], one.omega[-1]), (kernel, i)
+
+
+def test_a_batch_refuses_what_its_kernels_do_not_take():
+    R, omega = random_bodies(3)
+    top = lgi.HeavyTop(**TOP)
+    with pytest.raises(ValueError, match="R0: expected shape 3 x 3 x 3, got 2 x 3 x 3"):
+        lgi.integrate_batch(top, R[:2], omega, dt=0.01, steps=1)
+    with pytest.raises(ValueError, match=r"omega0\[2, 0\]: not finite"):
+        lgi.integrate_batch(top, R, np.vstack([omega[:2], [np.inf, 0, 0]]), dt=0.01, steps=1)
+    with pytest.raises(ValueError, match=r"R0\[1\]: not a rotation"):
+        lgi.integrate_batch(top, R * np.array([1, 1.01, 1])[None, :, None], omega, dt=0.01, steps=1)
+    with pytest.raises(ValueError, match="heavy_top and free_body problems, not lagrange_top"):
+        lgi.integrate_batch(lgi.LagrangeTop(inertia=[2, 2, 1], b=1, k=[0, 0, 1]), R, omega, dt=0.01, steps=1)
+    with pytest.raises(ValueError, match="method must be lgvi or rkmk4"):
+        lgi.integrate_batch(top, R, omega, dt=0.01, steps=1, method="rkmk_vern9_cayley")
+    with pytest.raises(ValueError, match="kernel must be"):
+        lgi.integrate_batch(top, R, omega, dt=0.01, steps=1, kernel="gpu")
+    with pytest.raises(ValueError, match="steps: expected a number of steps"):
+        lgi.integrate_batch(top, R, omega, dt=0.01, steps=-1)
+
+
+def test_the_gil_is_released_while_a_batch_integrates():
+    top = lgi.HeavyTop(**TOP)
+    omega = np.tile([0.1, 0.2, 5.0], (4096, 1))
+    ticks = 0
+    done = threading.Event()
+
+    def work():
+        lgi.integrate_batch(top, None, omega, dt=0.01, steps=3000, kernel="baseline")  # about 0.3 s
+        done.set()
+
+    thread = threading.Thread(target=work)
+    thread.start()
+    while not done.is_set():
+        ticks += 1
+        time.sleep(0.001)
+    thread.join()
+    assert ticks >= 20
+
+
+def test_a_batch_continues_where_it_stopped():
+    top = lgi.HeavyTop(**TOP)
+    _, omega = random_bodies(5)
+    held = lgi.Batch(top, None, omega, dt=0.01)
+    assert len(held) == 5 and held.t == 0
+    held.step(25).step(25)
+    once = lgi.integrate_batch(top, None, omega, dt=0.01, steps=50)
+    assert held.t == 0.5 and np.all(held.steps == 25) and np.all(once.steps == 50)
+    # Each call rebuilds the method's internal coordinates (Pi = J Omega) from (R, Omega): equal to round-off.
+    assert np.abs(held.R - once.R).max() < 1e-13 and np.abs(held.omega - once.omega).max() < 1e-12
+    assert held.seconds > 0 and held.kernel in ("avx512", "avx2", "baseline")
+
+
+def test_plots_draw_the_result_columns(tmp_path):
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    import lgi.plot
+    r = lgi.run(os.path.join(SOURCE, "scenes", "wheel_slew.json"))
+    ax = lgi.plot.invariants(r)
+    names = [line.get_label() for line in ax.lines]
+    assert names == ["energy", "momentum_1", "momentum_2", "momentum_3", "momentum_norm", "rotor_rate_1",
+                     "rotor_rate_2", "rotor_rate_3"]
+    energy = r.columns["energy"]
+    assert np.array_equal(ax.lines[0].get_ydata(), np.maximum(np.abs(energy - energy[0]) / abs(energy[0]), 1e-300))
+    w = lgi.plot.omega(r)
+    assert np.array_equal(w.lines[2].get_ydata(), r.omega[:, 2])
+    sphere = lgi.plot.body_axis(r, axis=2)
+    x, y, z = sphere.lines[0].get_data_3d()
+    assert np.array_equal(np.stack([x, y, z], 1), r.R[:, :, 1])
+    with pytest.raises(ValueError, match="axis: must be 1, 2 or 3"):
+        lgi.plot.body_axis(r, axis=4)
+    wp = lgi.plot.work_precision({"lgvi": ([3.0, 1.0, 2.0], [1e-3, 1e-1, 1e-2])})
+    assert np.array_equal(wp.lines[0].get_xdata(), [1.0, 2.0, 3.0])
+    fig = lgi.plot.overview(r)
+    fig.savefig(tmp_path / "overview.png")
+    assert (tmp_path / "overview.png").stat().st_size > 20000
+
+
+@pytest.mark.parametrize("name", ["sleeping_top.json", "heavy_top_cloud.json"])
+def test_a_sweep_gives_the_command_s_bytes(name, tmp_path):
+    path = os.path.join(SOURCE, "examples", "sweep", name)
+    out = tmp_path / "sweep.csv"
+    done = subprocess.run([LGI, "sweep", "-q", path, "-o", str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    result = lgi.sweep(path, threads=2)
+    assert result.csv == out.read_text()
+    with open(path) as f:
+        assert lgi.sweep(json.load(f)).csv == result.csv  # a dict: file names resolved from the current directory
+    assert result.columns["member"].dtype == float and set(result.columns["status"]) <= {"completed"}
+    assert len(result) == len(out.read_text().splitlines()) - 1
+
+
+def test_a_sweep_refuses_what_the_command_refuses():
+    with open(os.path.join(SOURCE, "examples", "sweep", "sleeping_top.json")) as f:
+        sweep = json.load(f)
+    sweep["sweep"]["grid"] = {"/initial/nope": [1, 2]}
+    with pytest.raises(ValueError, match=r"<dict>: /sweep/grid/~1initial~1nope: \"/initial/nope\" is not in the scene"):
+        lgi.sweep(sweep)
+    with pytest.raises(ValueError, match="does not take crossings yet"):
+        lgi.sweep(os.path.join(SOURCE, "examples", "sweep", "heavy_top_poincare.json"))
+
+
+def test_a_fit_gives_the_command_s_result(tmp_path):
+    if not hasattr(lgi._lgi, "fit"):
+        pytest.skip("built without Ceres")
+    for name in ("fit.json", "truth.json"):
+        (tmp_path / name).write_text(open(os.path.join(SOURCE, "examples", "fit", name)).read())
+    done = subprocess.run([LGI, "run", "-q", str(tmp_path / "truth.json"), "-o", str(tmp_path / "obs.csv")],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    command = subprocess.run([LGI, "fit", "-q", str(tmp_path / "fit.json")], capture_output=True, text=True)
+    assert command.returncode == 0, command.stderr
+    expected = json.loads(command.stdout)
+    result = lgi.fit(str(tmp_path / "fit.json"))
+    assert result["usable"] is True
+    for key in ("initial", "problem", "final_cost", "iterations", "residuals", "chi_square"):
+        assert result[key] == expected[key], key
+    # The covariance's last bits follow the heap addresses of Ceres' dense algebra (Eigen aligns its loops on them).
+    for key in ("covariance", "correlation"):
+        assert np.allclose(result[key], expected[key], rtol=1e-12, atol=0), key
+    for part, values in expected["sigma"].items():
+        for name, sigma in values.items():
+            assert np.allclose(result["sigma"][part][name], sigma, rtol=1e-12, atol=0), (part, name)
+    with open(tmp_path / "fit.json") as f:
+        document = json.load(f)
+    document["fit"]["unknowns"] = ["nope"]
+    cwd = os.getcwd()
+    os.chdir(tmp_path)  # a dict's file names (obs.csv) resolve from the current directory
+    try:
+        with pytest.raises(ValueError, match=r"<dict>: /fit/unknowns/0: unknown unknown \"nope\""):
+            lgi.fit(document)
+    finally:
+        os.chdir(cwd)

@@ -34,6 +34,26 @@ foreach(program consumer_batch consumer_fit)  # built where lgi has the target (
     list(APPEND programs ${program})
   endif()
 endforeach()
+# The Python package, where the build has it: installed into PREFIX/lib/python3.X/dist-packages, the directory
+# Debian's python3.X searches for PREFIX = /usr/local (checked too); it imports and runs from the installed tree alone.
+file(GLOB site LIST_DIRECTORIES true ${WORK_DIR}/prefix/lib/python3.*/dist-packages)
+if(MODE STREQUAL "install" AND EXISTS ${LGI_BINARY_DIR}/python/lgi/__init__.py)
+  if(NOT site OR NOT EXISTS ${site}/lgi/__init__.py)
+    message(FATAL_ERROR "cmake --install put no Python package in ${WORK_DIR}/prefix/lib/python3.X/dist-packages")
+  endif()
+  string(REGEX REPLACE "^.*/prefix/" "/usr/local/" local_site "${site}")
+  file(WRITE ${WORK_DIR}/installed_package.py "
+import sys
+assert '${local_site}' in sys.path, sys.path  # Debian's python3 and the default prefix
+import lgi
+assert lgi.__file__.startswith('${site}'), lgi.__file__
+print(lgi.run('${LGI_SOURCE_DIR}/scenes/heavy_top.json').status)
+")
+  run(${CMAKE_COMMAND} -E env PYTHONPATH=${site} /usr/bin/python3 ${WORK_DIR}/installed_package.py)
+  if(NOT output MATCHES "completed")
+    message(FATAL_ERROR "the installed Python package did not run the heavy top: ${output}")
+  endif()
+endif()
 foreach(program ${programs})
   run(${WORK_DIR}/build/${program})
   if(program STREQUAL "consumer_core" AND NOT output MATCHES "optimised: yes")

@@ -105,3 +105,32 @@ run(${CMAKE_COMMAND} -S ${LGI_SOURCE_DIR}/tests/cli/plugin_fixtures -B ${WORK_DI
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/fixtures)
 refused(${WORK_DIR}/fixtures/libnot_a_plugin.so "not an lgi plugin")
 refused(${WORK_DIR}/fixtures/libminimal_plugin.so "built for another lgi \\(lgi 0.0.1;")
+
+# From Python (the installed package, where the build has it): lgi.load_plugin gives the plugin's types their classes;
+# plugin_heavy_top gives the built-in heavy_top's bits; a library that is not a plugin raises InputError naming it.
+file(GLOB site LIST_DIRECTORIES true ${prefix}/lib/python3.*/dist-packages)
+if(site AND EXISTS ${site}/lgi/__init__.py)
+  file(WRITE ${WORK_DIR}/plugin_from_python.py [[
+import sys
+import numpy as np
+import lgi
+lgi.load_plugin(sys.argv[1])
+kw = dict(inertia=[2, 2, 1], b=1, k=[0, 0.6, 0.8])
+a = lgi.integrate(lgi.PluginHeavyTop(**kw), omega0=[0.1, 0.2, 5], t=1.0, method="lgvi", dt=0.001)
+b = lgi.integrate(lgi.HeavyTop(**kw), omega0=[0.1, 0.2, 5], t=1.0, method="lgvi", dt=0.001)
+assert np.array_equal(a.R, b.R) and np.array_equal(a.omega, b.omega)
+assert lgi.integrate(lgi.TetheredTop(inertia=[2, 2, 1], kappa=20), omega0=[0.3, -0.2, 4], t=1.0, method="lgvi",
+                     dt=0.001).status == "completed"
+try:
+    lgi.load_plugin(sys.argv[2])
+    raise SystemExit("a library that is not a plugin was loaded")
+except ValueError as e:
+    assert "not an lgi plugin" in str(e) and sys.argv[2] in str(e), e
+print("python plugin ok")
+]])
+  run(${CMAKE_COMMAND} -E env PYTHONPATH=${site} /usr/bin/python3 ${WORK_DIR}/plugin_from_python.py ${plugin}
+      ${WORK_DIR}/fixtures/libnot_a_plugin.so)
+  if(NOT out MATCHES "python plugin ok")
+    message(FATAL_ERROR "the plugin from Python: ${out}")
+  endif()
+endif()
