@@ -41,6 +41,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <map>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -52,6 +53,11 @@
 namespace py = pybind11;
 
 namespace lgi::app {
+// python_torque.cpp: the problem type "python_torque" and its callables.
+const ProblemInfo& problem_info_python_torque();
+std::map<std::int64_t, py::object>& python_callables();
+std::string take_callback_error();
+
 namespace {
 
 // An anonymous memory file (memfd_create) named for OutputFile as /proc/self/fd/N: streamed, never on disk.
@@ -150,6 +156,7 @@ py::dict run(const json& document, const std::string& name, const std::string& d
   MemoryFile memory;
   RunReport report;
   std::string text;
+  (void)take_callback_error();  // none from an earlier run
   {
     py::gil_scoped_release released;
     OutputFile csv(memory.path());
@@ -194,6 +201,7 @@ py::dict run(const json& document, const std::string& name, const std::string& d
     out["exit_status"] = exit_io_error;
   } else if (report.summary.status != RunStatus::completed) {
     auto [status, message] = incomplete_run(scene, report, 0);
+    if (const std::string callback = take_callback_error(); !callback.empty()) message = callback;
     out["error"] = scene.file + ": " + message + "; the result holds the rows to t = " + format_number(report.summary.t);
     out["exit_status"] = status;
   } else if (report.rows_not_finite > 0) {
@@ -461,6 +469,9 @@ py::dict fit(const std::string& text, const std::string& name) {
 }
 #endif
 
+// lgi.TorqueBody's callable f, under the number `id` scenes name it by (problem.torque).
+void register_callable(std::int64_t id, const py::object& f) { python_callables()[id] = f; }
+
 // lgi.load_plugin: the problem types of the plugin at `path` (plugin_loader.hpp); {} or {"error", "exit_status"}.
 py::dict plugin(const std::string& path) {
   try {
@@ -533,6 +544,8 @@ PYBIND11_MODULE(_lgi, m) {
       .def_property_readonly("steps", &lgi::app::Batch::steps)
       .def_static("status_names", &lgi::app::Batch::status_names);
   m.def("load_plugin", &lgi::app::plugin, py::arg("path"));
+  m.def("register_callable", &lgi::app::register_callable, py::arg("id"), py::arg("f"));
+  lgi::app::add_problem(lgi::app::problem_info_python_torque());
   m.def("sweep", &lgi::app::sweep, py::arg("text"), py::arg("name"), py::arg("threads"));
 #ifdef LGI_PYTHON_FIT
   m.def("fit", &lgi::app::fit, py::arg("text"), py::arg("name"));

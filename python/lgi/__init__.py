@@ -31,7 +31,7 @@ try:
 finally:
     _sys.setdlopenflags(_flags)
 
-__all__ = ["run", "integrate", "integrate_batch", "sweep", "fit", "view", "load_plugin", "SweepResult", "methods", "problems", "Problem", "Result", "Batch",
+__all__ = ["run", "integrate", "integrate_batch", "sweep", "fit", "view", "load_plugin", "SweepResult", "methods", "problems", "Problem", "TorqueBody", "Result", "Batch",
            "LgiError", "InputError", "RunError"]
 
 
@@ -203,6 +203,8 @@ def _problem_class(name, summary):
 
 def _add_problem_classes():
     for p in _lgi.problems():
+        if p["name"] == "python_torque":  # TorqueBody below
+            continue
         cls = _problem_class(p["name"], p["summary"])
         if cls.__name__ not in globals():
             globals()[cls.__name__] = cls
@@ -279,6 +281,38 @@ def load_plugin(path):
     if "error" in raw:
         raise InputError(raw["error"], raw["exit_status"])
     _add_problem_classes()
+
+
+class TorqueBody(Problem):
+    """A rigid body whose torque is a Python function: torque(t, R, omega) -> 3 numbers, the body-frame torque at time
+    t for the attitude R (3 x 3, body -> laboratory) and the body angular velocity omega (3) — the slow path for a
+    torque the scenes do not offer (a controller of your own, a disturbance model), called at every stage with the
+    GIL taken (its cost per step: docs/python.md).
+
+        def damping(t, R, omega):
+            return -0.1 * omega
+        r = lgi.integrate(lgi.TorqueBody(inertia=[1, 2, 3], torque=damping), omega0=[1, 0.1, 0], t=10, method="rkmk4",
+                          dt=1e-3)
+
+    Methods: rkmk4 (fixed steps) and rkmk_vern9_cayley (adaptive; "auto" takes it). No
+    potential: the energy column is the kinetic energy; momentum_1..3 and momentum_norm follow. An exception in the
+    function, or a result that is not 3 finite numbers, stops the run at that step: RunError with the function's
+    message and the rows so far. lgi keeps every function it was given for the life of the process.
+    """
+
+    def __init__(self, inertia, torque):
+        if not callable(torque):
+            raise TypeError("lgi.TorqueBody: torque: expected a function torque(t, R, omega), got %s"
+                            % type(torque).__name__)
+        Problem.__init__(self, "python_torque", inertia=inertia)
+        self.function = torque
+
+    def scene(self):
+        _lgi.register_callable(id(self.function), self.function)
+        return {"type": "python_torque", "inertia": _plain(self.keys["inertia"]), "torque": id(self.function)}
+
+    def __repr__(self):
+        return "lgi.TorqueBody(inertia=%r, torque=%r)" % (self.keys["inertia"], self.function)
 
 
 def _array(value, name, shape):

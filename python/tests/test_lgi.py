@@ -410,3 +410,35 @@ def test_a_fit_gives_the_command_s_result(tmp_path):
             lgi.fit(document)
     finally:
         os.chdir(cwd)
+
+
+def test_a_python_torque_runs_as_the_built_in_one_and_its_errors_stop_the_run():
+    def damping(t, R, omega):
+        assert R.shape == (3, 3) and omega.shape == (3,)
+        return -0.1 * omega
+    body = lgi.TorqueBody(inertia=[1, 2, 3], torque=damping)
+    built_in = lgi.RigidBody(inertia=[1, 2, 3], torques=[{"type": "damping", "coefficient": 0.1}])
+    for method, steps in (("rkmk4", dict(dt=1e-3)), ("rkmk_vern9_cayley", dict(dt=0.01, rtol=1e-10, atol=1e-10))):
+        a = lgi.integrate(body, omega0=[1, 0.1, 0], t=2, method=method, **steps)
+        b = lgi.integrate(built_in, omega0=[1, 0.1, 0], t=2, method=method, **steps)
+        assert np.array_equal(a.R, b.R) and np.array_equal(a.omega, b.omega), method
+    assert lgi.integrate(body, omega0=[1, 0.1, 0], t=2, tolerance=1e-8).method == "rkmk_vern9_cayley"
+
+    def fails(t, R, omega):
+        if t > 0.5:
+            raise ZeroDivisionError("the model broke")
+        return [0.0, 0.0, 0.0]
+    with pytest.raises(lgi.RunError, match=r"the torque callable raised at t = 0\.5.*: ZeroDivisionError: the model broke"
+                       ) as e:
+        lgi.integrate(lgi.TorqueBody(inertia=[1, 2, 3], torque=fails), omega0=[1, 0, 0], t=1, method="rkmk4", dt=0.01)
+    assert e.value.result.t[-1] == 0.5 and "\n" not in str(e.value)
+    with pytest.raises(lgi.RunError, match=r"returned \[1, 2\] at t = 0, not 3 numbers"):
+        lgi.integrate(lgi.TorqueBody(inertia=[1, 2, 3], torque=lambda t, R, w: [1, 2]), omega0=[1, 0, 0], t=1,
+                      method="rkmk4", dt=0.01)
+    with pytest.raises(lgi.RunError, match="not finite"):
+        lgi.integrate(lgi.TorqueBody(inertia=[1, 2, 3], torque=lambda t, R, w: [np.nan, 0, 0]), omega0=[1, 0, 0], t=1,
+                      method="rkmk4", dt=0.01)
+    with pytest.raises(ValueError, match="/integrator/method"):
+        lgi.integrate(body, omega0=[1, 0, 0], t=1, method="lgvi", dt=0.01)
+    with pytest.raises(TypeError, match="expected a function"):
+        lgi.TorqueBody(inertia=[1, 2, 3], torque=3)
