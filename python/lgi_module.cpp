@@ -397,6 +397,22 @@ class Batch {
   BodyBatch bodies_;
 };
 
+// `command` (sweep_command, fit_command) run on `document` with `options` (its file name and settings), quiet, its
+// output written into memory, the GIL released: its exit status and the output's bytes.
+template <class Options>
+std::pair<int, std::string> command_in_memory(int (*command)(const Options&), Options options, const json& document) {
+  MemoryFile memory;
+  options.document = &document;
+  options.output = memory.path();
+  options.quiet = true;
+  int status = 0;
+  {
+    py::gil_scoped_release released;
+    status = command(options);
+  }
+  return {status, memory.contents()};
+}
+
 // lgi.sweep: the sweep `document` (a sweep file's JSON; `name` names it in messages and its directory resolves file
 // names) run by `lgi sweep` (sweep_command.hpp) on `threads` threads with the GIL released, its CSV written into
 // memory. {"csv": the CSV's text} or {"error", "exit_status"}.
@@ -411,25 +427,17 @@ py::dict sweep(const std::string& text, const std::string& name, int threads) {
   } catch (const InputError& e) {
     return input_error(e);
   }
-  MemoryFile memory;
   SweepCommandOptions options;
   options.sweep_file = name;
-  options.document = &document;
-  options.output = memory.path();
   options.threads = threads;
-  options.quiet = true;
-  int status = 0;
-  {
-    py::gil_scoped_release released;
-    status = sweep_command(options);
-  }
+  const auto [status, csv] = command_in_memory(sweep_command, options, document);
   py::dict out;
   if (status != 0) {
     out["error"] = name + ": lgi sweep failed (exit status " + std::to_string(status) + "; its message is on stderr)";
     out["exit_status"] = status;
     return out;
   }
-  out["csv"] = py::bytes(memory.contents());
+  out["csv"] = py::bytes(csv);
   return out;
 }
 
@@ -447,19 +455,10 @@ py::dict fit(const std::string& text, const std::string& name) {
   } catch (const InputError& e) {
     return input_error(e);
   }
-  MemoryFile memory;
   FitCommandOptions options;
   options.fit_file = name;
-  options.document = &document;
-  options.output = memory.path();
-  options.quiet = true;
-  int status = 0;
-  {
-    py::gil_scoped_release released;
-    status = fit_command(options);
-  }
+  const auto [status, result] = command_in_memory(fit_command, options, document);
   py::dict out;
-  const std::string result = memory.contents();
   out["exit_status"] = status;
   if (result.empty())
     out["error"] = name + ": lgi fit failed (exit status " + std::to_string(status) + "; its message is on stderr)";
