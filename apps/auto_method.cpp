@@ -4,10 +4,6 @@
 #include "runner_detail.hpp"
 
 #include <lgi/core/engine.hpp>
-#include <lgi/core/so3.hpp>
-#include <lgi/problems/heavy_top.hpp>
-#include <lgi/problems/kovalevskaya_top.hpp>
-#include <lgi/problems/lagrange_top.hpp>
 
 #include <algorithm>
 #include <array>
@@ -46,22 +42,18 @@ const MethodInfo* first_applying(const ProblemInfo* problem, std::initializer_li
   return nullptr;
 }
 
-// √(b / min J_ii): the frequency scale of a top's pendulum motion (0 for problems without a gravity constant b).
+// √(b / min J_ii): the frequency scale of a body's pendulum motion under gravity (0 without gravity, or a b not
+// known).
 double gravity_frequency(const ProblemModel& model) {
-  const auto of = [](double b, const Mat3<double>& J) {
-    const double I = J.diagonal().minCoeff();
-    return b > 0 && I > 0 ? std::sqrt(b / I) : 0.0;
-  };
-  if (const auto* p = problem_as<HeavyTop<double>>(model)) return of(p->b, p->inertia);
-  if (const auto* p = problem_as<LagrangeTop<double>>(model)) return of(p->b, p->inertia);
-  if (const auto* p = problem_as<KovalevskayaTop<double>>(model)) return of(p->b, p->inertia);
-  return 0.0;
+  const BodyData body = model.body();
+  const double I = body.J.diagonal().minCoeff();
+  return body.has_gravity && body.b > 0 && I > 0 ? std::sqrt(body.b / I) : 0.0;
 }
 
-// The error measure of the tolerance: R's rotation angle + |ΔΩ| / max(|Ω|, |Ω0|) (both 0: absolute).
+// The error measure of the tolerance: R's rotation angle + |ΔΩ| / max(|Ω|, |Ω0|) (runner.hpp).
 double distance(const State<double>& a, const State<double>& b, double w0) {
-  const double w = std::max(a.Omega.norm(), w0);
-  return so3::log(Mat3<double>(b.R.transpose() * a.R)).norm() + (a.Omega - b.Omega).norm() / (w > 0 ? w : 1.0);
+  const StateDifference d = state_difference(a, b, w0);
+  return d.angle + d.omega;
 }
 
 std::string number(double x) {

@@ -105,7 +105,7 @@ int view_command(const ViewCommandOptions& cmd) {
   std::vector<std::string> inputs;
   if (!cmd.scene.empty()) {
     try {
-      input.body = lgi::app::view_body(lgi::app::load_scene(cmd.scene), lgi::app::read_json_file(cmd.scene));
+      input.body = lgi::app::view_body(lgi::app::load_scene(cmd.scene));
     } catch (const lgi::app::InputError& e) {
       return fail(exit_bad_input, e.what());
     }
@@ -426,7 +426,7 @@ int run_command(const RunCommandOptions& cmd) {
   if (!cmd.html.empty() && report.has_rows) {
     lgi::app::ViewInput view;
     view.csv = output;
-    view.body = lgi::app::view_body(scene, document);
+    view.body = lgi::app::view_body(scene);
     if (const int status = lgi::app::write_view(view, cmd.html, {input}, LGI_VERSION, cmd.quiet); status != 0)
       return status;
   }

@@ -81,6 +81,8 @@ class ProblemModelOf final : public ProblemModel {
       d.has_gravity = true;
       d.k = q.gravity_axis();
       d.z0 = q.mass_axis();
+      if constexpr (requires { q.b; }) d.b = static_cast<double>(q.b);
+      else d.b = std::numeric_limits<double>::quiet_NaN();
     }
     return d;
   }

@@ -92,11 +92,15 @@ namespace runner_detail {
 class ProblemRunner;
 }
 
-// What a problem gives the sweeps' state functions: J, and for tops k and z0.
+// What a problem says of its body (the sweeps' state functions, auto's frequency scale, lgi view's drawing): J; for
+// a problem with uniform gravity (has_gravity) k, z0 and its strength b — the problem's member b, NaN where the type
+// names none (a plugin's), 0 without gravity; a gyrostat's rotor axes.
 struct BodyData {
   Mat3<double> J = Mat3<double>::Identity();
   bool has_gravity = false;
   Vec3<double> k = Vec3<double>::UnitZ(), z0 = Vec3<double>::UnitZ();
+  double b = 0;
+  std::vector<Vec3<double>> rotor_axes;  // unit, body frame
 };
 
 // A scene's problem with its parameters, behind an interface (problem_model.hpp implements it for any problem type).

@@ -325,15 +325,18 @@ ErrorEstimate estimate_error(const Scene& scene, const RunReport& report, const 
     e.how = std::string("not available: the comparison run (") + buf + ") did not complete";
     return e;
   }
-  const State<double>& a = report.final_state;
-  const State<double>& b = r.final_state;
   // |Ω| at t or at the start, whichever is larger (a motion brought to rest: relative to its initial speed).
-  const double scale = std::max({a.Omega.norm(), scene.initial.Omega.norm(), std::numeric_limits<double>::min()});
-  e.R = factor * so3::log(Mat3<double>(b.R.transpose() * a.R)).norm();
-  e.Omega = factor * (a.Omega - b.Omega).norm() / scale;
+  const StateDifference d = state_difference(report.final_state, r.final_state, scene.initial.Omega.norm());
+  e.R = factor * d.angle;
+  e.Omega = factor * d.omega;
   e.available = std::isfinite(e.R) && std::isfinite(e.Omega);
   e.how = buf;
   return e;
+}
+
+StateDifference state_difference(const State<double>& a, const State<double>& b, double omega_scale) {
+  const double w = std::max(a.Omega.norm(), omega_scale);
+  return {so3::log(Mat3<double>(b.R.transpose() * a.R)).norm(), (a.Omega - b.Omega).norm() / (w > 0 ? w : 1.0)};
 }
 
 std::string error_estimate_line(const ErrorEstimate& e, const RunReport& report) {

@@ -184,6 +184,13 @@ struct ErrorEstimate {
   std::string how;   // e.g. "Richardson with dt = 0.02 (order 4)"; when not available: why
   double seconds = 0;  // the comparison run's wall time
 };
+// The difference of state a from state b that --error-estimate and auto's tolerance measure: R's rotation angle
+// |log(b.Rᵀ a.R)| (radians) and |Ω_a − Ω_b| / max(|Ω_a|, omega_scale) (absolute when both are 0).
+struct StateDifference {
+  double angle = 0, omega = 0;
+};
+StateDifference state_difference(const State<double>& a, const State<double>& b, double omega_scale);
+
 // `stop`: the comparison run stops when *stop becomes non-zero (then not available).
 ErrorEstimate estimate_error(const Scene& scene, const RunReport& report,
                              const volatile std::sig_atomic_t* stop = nullptr);

@@ -69,15 +69,19 @@ std::optional<std::size_t> find(const std::vector<std::string>& header, std::str
   return static_cast<std::size_t>(it - header.begin());
 }
 
+// The columns of the time, the attitude and the rate groups (output_columns.hpp), which the page does not draw as
+// curves.
 bool is_attitude_or_rate(std::string_view name) {
-  static constexpr std::array<std::string_view, 26> names{
-      "t",          "R11",         "R12",        "R13",         "R21",         "R22",          "R23",
-      "R31",        "R32",         "R33",        "q_w",         "q_x",         "q_y",          "q_z",
-      "omega1",     "omega2",      "omega3",     "zxz_phi",     "zxz_theta",   "zxz_psi",      "yaw",
-      "pitch",      "roll",        "zxz_phi_deg", "zxz_theta_deg", "zxz_psi_deg"};
-  static constexpr std::array<std::string_view, 3> degrees{"yaw_deg", "pitch_deg", "roll_deg"};
-  return std::find(names.begin(), names.end(), name) != names.end() ||
-         std::find(degrees.begin(), degrees.end(), name) != degrees.end();
+  using G = ColumnGroup;
+  static constexpr std::array<G, 8> groups{G::t,         G::R,             G::quaternion, G::omega,
+                                           G::euler_zxz, G::euler_zxz_deg, G::euler_zyx,  G::euler_zyx_deg};
+  static const std::string header = column_header(groups, {});
+  for (std::size_t from = 0; from <= header.size();) {
+    const std::size_t comma = std::min(header.find(',', from), header.size());
+    if (std::string_view(header).substr(from, comma - from) == name) return true;
+    from = comma + 1;
+  }
+  return false;
 }
 
 void append_base64(std::string& out, const std::vector<unsigned char>& bytes) {
@@ -150,33 +154,18 @@ json body_json(const ViewBody& body) {
   b["k"] = vec_json(body.data.k);
   b["z0"] = vec_json(body.data.z0);
   b["rotors"] = json::array();
-  for (const Vec3<double>& a : body.rotors) b["rotors"].push_back(vec_json(a));
+  for (const Vec3<double>& a : body.data.rotor_axes) b["rotors"].push_back(vec_json(a));
   return b;
 }
 
 }  // namespace
 
-// What the page of lgi view draws of a scene's body. From the scene's document (the loader has checked it): a
-// gyrostat's rotor axes (problem.rotors), and gravity only where its b (problem.b or problem.gravity.b) is not 0.
-ViewBody view_body(const lgi::app::Scene& scene, const json& document) {
+ViewBody view_body(const lgi::app::Scene& scene) {
   ViewBody body;
   body.known = true;
   body.problem = std::string(scene.problem->type_name());
   body.data = scene.problem->body();
-  const json none;
-  const json& problem = document.is_object() && document.contains("problem") ? document["problem"] : none;
-  const auto b_of = [](const json& j) {
-    return j.is_object() && j.contains("b") && j["b"].is_number() ? j["b"].get<double>() : 0.0;
-  };
-  const double b = std::max(b_of(problem), problem.is_object() && problem.contains("gravity") ? b_of(problem["gravity"]) : 0.0);
-  body.data.has_gravity = body.data.has_gravity && b > 0;
-  if (problem.is_object() && problem.contains("rotors") && problem["rotors"].is_array())
-    for (const auto& rotor : problem["rotors"])
-      if (rotor.is_object() && rotor.contains("axis") && rotor["axis"].is_array() && rotor["axis"].size() == 3) {
-        Vec3<double> a;
-        for (int i = 0; i < 3; ++i) a(i) = rotor["axis"][static_cast<std::size_t>(i)].get<double>();
-        body.rotors.push_back(a.normalized());
-      }
+  body.data.has_gravity = body.data.has_gravity && body.data.b != 0;  // NaN (a b not named): drawn
   return body;
 }
 
@@ -227,11 +216,11 @@ std::string make_view_page(const ViewInput& input, const std::string& version, V
     if (c) omega_at[static_cast<std::size_t>(i)] = *c;
   }
   std::vector<std::size_t> rotor_at;  // rotor_rate_1 ... when every rotor of the body has its column
-  for (std::size_t r = 0; r < input.body.rotors.size(); ++r) {
+  for (std::size_t r = 0; r < input.body.data.rotor_axes.size(); ++r) {
     const auto c = find(header, "rotor_rate_" + std::to_string(r + 1));
     if (c) rotor_at.push_back(*c);
   }
-  if (rotor_at.size() != input.body.rotors.size()) rotor_at.clear();
+  if (rotor_at.size() != input.body.data.rotor_axes.size()) rotor_at.clear();
   std::vector<std::size_t> curve_at;
   for (std::size_t c = 0; c < header.size(); ++c)
     if (!is_attitude_or_rate(header[c])) curve_at.push_back(c);

@@ -39,7 +39,6 @@ struct ViewBody {
   bool known = false;  // J, k, z0 below come from a scene
   std::string problem;  // the scene's problem type ("" when unknown)
   BodyData data;
-  std::vector<Vec3<double>> rotors;  // a gyrostat's rotor axes (unit, body frame), drawn as discs
 };
 
 struct ViewInput {
@@ -50,9 +49,9 @@ struct ViewInput {
   std::size_t max_frames = 20000;  // at most this many frames in the page (≥ 2)
 };
 
-// What the page draws of the body of `scene`, loaded from `document`: its problem type, J, k and z0, gravity only
-// where the scene's b (problem.b or problem.gravity.b) is not 0, a gyrostat's rotor axes (problem.rotors).
-ViewBody view_body(const Scene& scene, const json& document);
+// What the page draws of the body of `scene` (its problem's BodyData): its problem type, J, k and z0, gravity only
+// where its b is not 0, a gyrostat's rotor axes.
+ViewBody view_body(const Scene& scene);
 
 // What make_view_page read and wrote, for the command's summary line.
 struct ViewReport {

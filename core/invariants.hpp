@@ -15,6 +15,9 @@
 #include "so3.hpp"
 #include "state.hpp"
 
+#include <array>
+#include <string_view>
+
 namespace lgi {
 
 /// ½ Ω·JΩ, J the inertia tensor (body frame) and Ω the body angular velocity; energy units of J·Ω².
@@ -47,6 +50,17 @@ Vec3<T> spatial_momentum(const Mat3<T>& J, const State<T>& x) {
 template <class T>
 T body_momentum_norm(const Mat3<T>& J, const State<T>& x) {
   return (J * x.Omega).norm();
+}
+
+/// The CSV columns of a body's momentum (the free body's invariants; the columns of the bodies under torques, where
+/// they change): momentum_1 … momentum_3 = m = R J Ω, momentum_norm = |JΩ|.
+inline constexpr std::array<std::string_view, 4> momentum_column_names{"momentum_1", "momentum_2", "momentum_3",
+                                                                       "momentum_norm"};
+/// (m1, m2, m3, |JΩ|) of x, in the order of momentum_column_names.
+template <class T>
+std::array<T, 4> momentum_columns(const Mat3<T>& J, const State<T>& x) {
+  const Vec3<T> m = spatial_momentum(J, x);
+  return {m.x(), m.y(), m.z(), body_momentum_norm(J, x)};
 }
 
 }  // namespace lgi

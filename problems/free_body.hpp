@@ -33,13 +33,9 @@ struct FreeBody {
   Vec3<T> torque(const Mat3<T>&) const { return Vec3<T>::Zero(); }
 
   /// The extra output columns: the spatial momentum m = R J Ω and the Casimir |JΩ|.
-  static constexpr std::array<std::string_view, 4> invariant_names{"momentum_1", "momentum_2", "momentum_3",
-                                                                   "momentum_norm"};
+  static constexpr std::array<std::string_view, 4> invariant_names = momentum_column_names;
   /// (m1, m2, m3, |JΩ|) of x, in the order of invariant_names.
-  std::array<T, 4> invariants(const State<T>& x) const {
-    const Vec3<T> m = spatial_momentum(inertia, x);
-    return {m.x(), m.y(), m.z(), body_momentum_norm(inertia, x)};
-  }
+  std::array<T, 4> invariants(const State<T>& x) const { return momentum_columns(inertia, x); }
 
   /// The same body in scalar S (e.g. double → ceres::Jet).
   template <class S>

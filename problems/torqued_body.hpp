@@ -133,15 +133,11 @@ struct TorquedBody {
 
   /// The extra output columns: the spatial momentum m = R J Ω and |JΩ| (the free body's invariants; here they
   /// change by the torques' action).
-  static constexpr std::array<std::string_view, 4> invariant_names{"momentum_1", "momentum_2", "momentum_3",
-                                                                   "momentum_norm"};
+  static constexpr std::array<std::string_view, 4> invariant_names = momentum_column_names;
   /// None of them is an integral of the motion (the command does not report their drift as an error).
   static constexpr std::size_t integral_count = 0;
   /// (m1, m2, m3, |JΩ|) of x.
-  std::array<T, 4> invariants(const State<T>& x) const {
-    const Vec3<T> m = spatial_momentum(inertia, x);
-    return {m.x(), m.y(), m.z(), body_momentum_norm(inertia, x)};
-  }
+  std::array<T, 4> invariants(const State<T>& x) const { return momentum_columns(inertia, x); }
   /// The last time the torque is defined at: the table's last sample, +∞ without a table (the scene loader refuses
   /// a t_end beyond it).
   double time_limit() const { return table ? table->t_last() : std::numeric_limits<double>::infinity(); }

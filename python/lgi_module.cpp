@@ -246,7 +246,7 @@ py::dict view(const std::string& csv, const std::string& scene_text, const std::
   try {
     if (!scene_text.empty()) {
       const json document = parse_json(scene_text, scene_name);
-      input.body = view_body(parse_scene(document, scene_name, directory), document);
+      input.body = view_body(parse_scene(document, scene_name, directory));
     }
     page = make_view_page(input, LGI_VERSION_STRING, &report) + "\n";
   } catch (const InputError& e) {

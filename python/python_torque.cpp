@@ -90,13 +90,10 @@ struct PythonTorqueBody {
     }
   }
 
-  static constexpr std::array<std::string_view, 4> invariant_names{"momentum_1", "momentum_2", "momentum_3",
-                                                                   "momentum_norm"};
+  // TorquedBody's columns (core/invariants.hpp), none an integral of the motion.
+  static constexpr std::array<std::string_view, 4> invariant_names = momentum_column_names;
   static constexpr std::size_t integral_count = 0;
-  std::array<double, 4> invariants(const State<double>& x) const {
-    const Vec3<double> m = spatial_momentum(inertia, x);
-    return {m.x(), m.y(), m.z(), body_momentum_norm(inertia, x)};
-  }
+  std::array<double, 4> invariants(const State<double>& x) const { return momentum_columns(inertia, x); }
 };
 
 namespace {

@@ -104,7 +104,7 @@ class GyrostatRunner final : public runner_detail::ProblemRunner {
 class GyrostatModel final : public ProblemModel {
  public:
   explicit GyrostatModel(const G& g) : g_(g), dyn_(g) {
-    names_ = {"momentum_1", "momentum_2", "momentum_3", "momentum_norm"};
+    names_.assign(momentum_column_names.begin(), momentum_column_names.end());
     for (int i = 0; i < g.rotor_count; ++i) {
       labels_.push_back("rotor_rate_" + std::to_string(i + 1));
     }
@@ -131,6 +131,8 @@ class GyrostatModel final : public ProblemModel {
     d.has_gravity = true;
     d.k = g_.body.k;
     d.z0 = g_.body.z0;
+    d.b = g_.body.b;
+    for (int i = 0; i < g_.rotor_count; ++i) d.rotor_axes.push_back(g_.rotors[i].axis);
     return d;
   }
   double time_limit() const override { return g_.time_limit(); }
