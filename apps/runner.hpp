@@ -33,6 +33,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,18 @@ class RunObserver {
   ~RunObserver() = default;
 };
 
+// Where a run's rows go as numbers rather than text (RunOptions::rows; the Python package's results): one call per
+// row with the columns `lgi run` writes (output_header's), the values it prints with 17 significant digits — read
+// back from its CSV they are these doubles. A row with a column that is not finite is not passed, as it is not
+// written.
+class RowSink {
+ public:
+  virtual void row(std::span<const double> columns) = 0;
+
+ protected:
+  ~RowSink() = default;
+};
+
 // How a command shows its progress on stderr: not at all, on a terminal (one line rewritten at most four times a
 // second), or as whole lines every 2 s (a log).
 enum class Progress : std::uint8_t { none, terminal, lines };
@@ -97,6 +110,7 @@ class ProgressLine {
 
 struct RunOptions {
   OutputFile* csv = nullptr;                        // rows go here, one record each; nullptr: no rows
+  RowSink* rows = nullptr;  // or here, as numbers (instead of csv; not with checkpoints, resume or an observer)
   Progress progress = Progress::none;
   const volatile std::sig_atomic_t* stop = nullptr;  // the run stops when *stop becomes non-zero
   // Long runs flush the rows at least this often (wall seconds; checked with the monitor).

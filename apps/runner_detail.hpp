@@ -53,31 +53,45 @@ RunReport run_session(const ProblemRunner& problem, const Scene& scene, const Ru
 
 using Clock = std::chrono::steady_clock;
 
-// Formats one CSV row into a fixed buffer and hands it to the output as one record: no allocation per row. A row
-// with a column that is not finite is not written (counted, with the time of the first): no NaN or infinity
-// reaches the output. After the output's first failed write no row is written (failed()).
+// Formats one CSV row into a fixed buffer and hands it to the output as one record, or hands the row's numbers to a
+// RowSink (runner.hpp): no allocation per row. A row with a column that is not finite is not written (counted, with
+// the time of the first): no NaN or infinity reaches the output. After the output's first failed write no row is
+// written (failed()).
 class RowWriter {
  public:
-  explicit RowWriter(OutputFile* out) : out_(out) {}
+  explicit RowWriter(OutputFile* out, RowSink* sink = nullptr) : out_(out), sink_(sink) {
+    if (sink_) values_.reserve(64);
+  }
   void add(double x) {
-    if (n_ == 0) row_t_ = x;  // the first column is t
-    else buf_[n_++] = ',';
+    if (columns_++ == 0) row_t_ = x;  // the first column is t
     finite_ = finite_ && std::isfinite(x);
+    if (sink_) {
+      values_.push_back(x);
+      return;
+    }
+    if (n_ > 0) buf_[n_++] = ',';
     n_ = static_cast<std::size_t>(
         std::to_chars(buf_.data() + n_, buf_.data() + buf_.size(), x, std::chars_format::general, 17).ptr -
         buf_.data());
   }
   void end_row() {
-    buf_[n_++] = '\n';
     if (!finite_) {
       if (not_finite_++ == 0) first_not_finite_t_ = row_t_;
-    } else if (!out_->write_record(std::string_view(buf_.data(), n_))) {
-      failed_ = true;
     } else {
-      has_row_ = true;
-      last_t_ = row_t_;
+      if (sink_) {
+        sink_->row(values_);
+      } else {
+        buf_[n_++] = '\n';
+        failed_ = !out_->write_record(std::string_view(buf_.data(), n_));
+      }
+      if (!failed_) {
+        has_row_ = true;
+        last_t_ = row_t_;
+      }
     }
     n_ = 0;
+    columns_ = 0;
+    values_.clear();
     finite_ = true;
   }
   bool failed() const { return failed_; }
@@ -93,8 +107,11 @@ class RowWriter {
 
  private:
   OutputFile* out_;
+  RowSink* sink_;
+  std::vector<double> values_;  // the row's numbers, for sink_
   std::array<char, 2048> buf_{};
   std::size_t n_ = 0;
+  std::size_t columns_ = 0;
   bool failed_ = false;
   bool finite_ = true;
   bool has_row_ = false;

@@ -98,8 +98,8 @@ class Session final : public RunSink {
  public:
   Session(const ProblemRunner& problem, Integrator& engine, const Scene& scene, const RunOptions& options,
           RunReport& report, std::int64_t steps_before)
-      : problem_(problem), engine_(engine), scene_(scene), options_(options), report_(report), rows_(options.csv),
-        observation_(engine, scene.initial, scene.dt, !(scene.options.rtol > 0)),
+      : problem_(problem), engine_(engine), scene_(scene), options_(options), report_(report),
+        rows_(options.csv, options.rows), observation_(engine, scene.initial, scene.dt, !(scene.options.rtol > 0)),
         monitor_(options, scene, steps_before),
         checkpointer_(options, scene), numbers_(engine.state_size()) {}
 
@@ -112,7 +112,7 @@ class Session final : public RunSink {
   // A row at time t (and the observer's event): `from` says whose state.
   void row(double t, From from) {
     if (options_.observer && from != From::current) observation_.event(t, from == From::initial, *options_.observer);
-    if (!options_.csv) return;
+    if (!options_.csv && !options_.rows) return;
     columns_.clear();
     if (from == From::initial) problem_.initial_columns(scene_, t, columns_);
     else problem_.columns(t, engine_, from == From::event ? Slot::event : Slot::current, columns_);
@@ -300,7 +300,7 @@ RunReport run_session(const ProblemRunner& problem, const Scene& scene, const Ru
       session.checkpointer().enabled() && session.checkpoint(c))
     report.checkpoint_written = options.checkpoint_path;
   RowWriter& rows = session.rows();
-  if (halt != Halt::none && options.csv && !(rows.has_row() && rows.last_t() == summary.t)) {
+  if (halt != Halt::none && (options.csv || options.rows) && !(rows.has_row() && rows.last_t() == summary.t)) {
     session.row(summary.t, moved ? From::current : From::initial);  // the last good state, the file's last row
     report.final_row = true;
   }

@@ -11,8 +11,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace lgi::app {
 namespace {
@@ -79,6 +81,63 @@ TEST(Scene, RunnerMatchesTheLibraryBitForBit) {
   EXPECT_EQ(report.final_state.Omega, x.Omega);
   EXPECT_EQ(report.summary.steps, 250 + 1);  // 250 grid steps and the side-step to 2.345
   EXPECT_GT(report.newton_iterations, 0);
+}
+
+// The rows a run writes to its CSV, as numbers (the header skipped).
+std::vector<std::vector<double>> csv_rows(const Scene& scene, const std::string& path) {
+  {
+    OutputFile out(path);
+    RunOptions options;
+    options.csv = &out;
+    (void)run_scene(scene, options);
+    EXPECT_TRUE(out.commit());
+  }
+  std::vector<std::vector<double>> rows;
+  std::FILE* f = std::fopen(path.c_str(), "r");
+  char line[4096];
+  if (!f || !std::fgets(line, sizeof line, f)) return rows;
+  while (std::fgets(line, sizeof line, f)) {
+    std::vector<double> row;
+    for (char* p = line; *p && *p != '\n';) {
+      char* end = nullptr;
+      row.push_back(std::strtod(p, &end));
+      p = *end == ',' ? end + 1 : end;
+    }
+    rows.push_back(row);
+  }
+  std::fclose(f);
+  std::remove(path.c_str());
+  return rows;
+}
+
+struct Rows final : RowSink {
+  std::vector<std::vector<double>> rows;
+  void row(std::span<const double> columns) override { rows.emplace_back(columns.begin(), columns.end()); }
+};
+
+// A RowSink gets the numbers the CSV prints, row for row: a complete run, the scene's own columns, and a run stopped by
+// its budget (its last good state as the last row).
+TEST(Scene, ARowSinkGetsTheNumbersTheCsvHolds) {
+  const std::string path = ::testing::TempDir() + "lgi_row_sink.csv";
+  const std::string columns = R"({"problem": {"type": "free_body", "inertia": [1, 2, 3]}, "initial": {"omega": [1, 0.1, 0.2]},
+    "integrator": {"method": "rkmk4", "dt": 0.01}, "t_end": 1, "output": {"interval": 0.1,
+    "columns": ["t", "quaternion", "euler_zyx_deg", "invariants"]}})";
+  const std::string stops = R"({"problem": {"type": "heavy_top", "inertia": [2, 2, 1], "b": 1},
+    "initial": {"omega": [0.1, 0.2, 5]}, "integrator": {"method": "lgvi", "dt": 0.01}, "t_end": 3,
+    "output": {"interval": 0.3}, "limits": {"max_steps": 50}})";
+  for (const std::string& text : {std::string(kScene), columns, stops}) {
+    const Scene s = parse(text);
+    const std::vector<std::vector<double>> written = csv_rows(s, path);
+    Rows sink;
+    RunOptions options;
+    options.rows = &sink;
+    const RunReport report = run_scene(s, options);
+    ASSERT_GE(written.size(), 2u) << text;
+    EXPECT_EQ(sink.rows, written) << text;
+    EXPECT_TRUE(report.has_rows);
+    EXPECT_EQ(report.final_row, text == stops);  // the stopped run's last good state, at t = 0.5
+    EXPECT_EQ(report.summary.status == RunStatus::completed, text != stops);
+  }
 }
 
 TEST(JsonReader, DuplicateKeyPathInsideArrays) {
