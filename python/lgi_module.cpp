@@ -41,7 +41,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <map>
+#include <memory>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -86,10 +88,15 @@ class MemoryFile {
   int fd_;
 };
 
-struct Table {
+// A run's rows as the runner passes them (runner.hpp, RowSink): the doubles `lgi run` prints with 17 digits.
+struct RowTable final : RowSink {
   std::vector<std::string> names;
   std::vector<double> values;  // row-major
   std::size_t rows = 0;
+  void row(std::span<const double> columns) override {
+    values.insert(values.end(), columns.begin(), columns.end());
+    ++rows;
+  }
 };
 
 // The column names of a CSV header row (without its newline).
@@ -103,27 +110,13 @@ std::vector<std::string> split_header(std::string_view header) {
   return names;
 }
 
-Table parse_rows(const std::string& text) {
-  Table t;
-  std::size_t at = text.find('\n');
-  if (at == std::string::npos) return t;
-  t.names = split_header(std::string_view(text).substr(0, at));
-  const char* p = text.c_str() + at + 1;
-  while (*p) {
-    for (std::size_t k = 0; k < t.names.size(); ++k) {
-      char* end = nullptr;
-      t.values.push_back(std::strtod(p, &end));
-      p = end + 1;  // past ',' or '\n'
-    }
-    ++t.rows;
-  }
-  return t;
-}
-
-py::array_t<double> matrix(const std::vector<double>& v, std::size_t rows, std::size_t cols) {
-  py::array_t<double> a(std::vector<py::ssize_t>{static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
-  if (!v.empty()) std::memcpy(a.mutable_data(), v.data(), v.size() * sizeof(double));
-  return a;
+// A rows × cols array holding v's numbers (row-major), without copying them: the array owns the vector.
+py::array_t<double> matrix(std::vector<double>&& v, std::size_t rows, std::size_t cols) {
+  auto owned = std::make_unique<std::vector<double>>(std::move(v));
+  const py::capsule owner(owned.get(), [](void* p) { delete static_cast<std::vector<double>*>(p); });
+  const double* data = owned.release()->data();
+  return py::array_t<double>(std::vector<py::ssize_t>{static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)},
+                             data, owner);
 }
 
 std::string status_name(RunStatus s) {
@@ -153,23 +146,18 @@ py::dict run(const json& document, const std::string& name, const std::string& d
   }
   const std::vector<ColumnGroup> groups = scene.columns;
   scene.columns.clear();  // the standard row; the scene's columns are mapped from it below
-  MemoryFile memory;
+  RowTable t;
+  t.names = split_header(csv_header(scene));
   RunReport report;
-  std::string text;
   (void)take_callback_error();  // none from an earlier run
   {
     py::gil_scoped_release released;
-    OutputFile csv(memory.path());
     RunOptions options;
-    options.csv = &csv;
+    options.rows = &t;
     report = run_scene(scene, options);
-    if (!csv.flush()) report.write_failed = true;
-    text = memory.contents();
   }
-  const Table t = parse_rows(text);
   const std::size_t m = t.names.size();
   out["names"] = t.names;
-  out["data"] = matrix(t.values, t.rows, m);
   // The quaternion (sign continuous along the run) and the scene's own columns, by the command's mapper (the standard
   // row of every problem holds R in its columns 1 … 9).
   if (m > 9) {
@@ -178,7 +166,7 @@ py::dict run(const json& document, const std::string& name, const std::string& d
     q.reserve(4 * t.rows);
     for (std::size_t r = 0; r < t.rows; ++r)
       quaternion.map(std::span<const double>(t.values.data() + r * m, m), q);
-    out["quaternion"] = matrix(q, t.rows, 4);
+    out["quaternion"] = matrix(std::move(q), t.rows, 4);
   }
   if (!groups.empty()) {
     std::vector<std::string_view> invariants = scene.problem->invariant_names();
@@ -187,8 +175,9 @@ py::dict run(const json& document, const std::string& name, const std::string& d
     std::vector<double> v;
     for (std::size_t r = 0; r < t.rows; ++r) mapper.map(std::span<const double>(t.values.data() + r * m, m), v);
     out["scene_names"] = names;
-    out["scene_data"] = matrix(v, t.rows, names.size());
+    out["scene_data"] = matrix(std::move(v), t.rows, names.size());
   }
+  out["data"] = matrix(std::move(t.values), t.rows, m);
   out["summary"] = brief_report(scene, report);
   out["status"] = status_name(report.summary.status);
   out["steps"] = report.summary.steps;
@@ -196,10 +185,7 @@ py::dict run(const json& document, const std::string& name, const std::string& d
   out["wall_seconds"] = report.wall_seconds;
   out["method"] = std::string(scene.method->traits.name);
   out["exit_status"] = 0;
-  if (report.write_failed) {
-    out["error"] = scene.file + ": the rows could not be written to memory (" + std::string(std::strerror(ENOMEM)) + ")";
-    out["exit_status"] = exit_io_error;
-  } else if (report.summary.status != RunStatus::completed) {
+  if (report.summary.status != RunStatus::completed) {
     auto [status, message] = incomplete_run(scene, report, 0);
     if (const std::string callback = take_callback_error(); !callback.empty()) message = callback;
     out["error"] = scene.file + ": " + message + "; the result holds the rows to t = " + format_number(report.summary.t);
@@ -227,6 +213,82 @@ py::dict run_text(const std::string& text, const std::string& name, const std::s
   json document;
   try {
     document = parse_json(text, name);
+  } catch (const InputError& e) {
+    return input_error(e);
+  }
+  return run(document, name, directory);
+}
+
+// The JSON value of a Python object given as a document (a scene as a dict): dicts with string keys, lists and
+// tuples, strings, bools, ints, finite floats, None, and numpy arrays and scalars (through their tolist()), at most
+// max_json_depth deep, as parse_json would read the same document from json.dumps. Anything else is an InputError
+// naming `name`, the JSON path (`pointer`) and what is there.
+json to_json(py::handle h, const std::string& name, std::string& pointer, std::size_t depth = 0) {
+  const auto fail = [&](const std::string& what) -> InputError {
+    return InputError(name + ": " + (pointer.empty() ? std::string("/") : pointer) + ": " + what);
+  };
+  if (depth > max_json_depth) throw fail("nested deeper than " + std::to_string(max_json_depth) + " levels");
+  PyObject* o = h.ptr();
+  if (o == Py_None) return nullptr;
+  if (PyBool_Check(o)) return o == Py_True;
+  if (PyLong_Check(o)) {
+    int overflow = 0;
+    const long long v = PyLong_AsLongLongAndOverflow(o, &overflow);
+    if (overflow == 0 && !(v == -1 && PyErr_Occurred())) return v;
+    PyErr_Clear();
+    throw fail("the integer " + quoted_input(std::string(py::str(h))) + " does not fit in 64 bits");
+  }
+  if (PyFloat_Check(o)) {
+    const double v = PyFloat_AS_DOUBLE(o);
+    if (!std::isfinite(v)) throw fail(std::string(std::isnan(v) ? "nan" : "inf") + " is not a number JSON can hold");
+    return v;
+  }
+  if (PyUnicode_Check(o)) {
+    Py_ssize_t n = 0;
+    const char* s = PyUnicode_AsUTF8AndSize(o, &n);
+    if (!s) {
+      PyErr_Clear();
+      throw fail("a string that is not valid Unicode");
+    }
+    return std::string(s, static_cast<std::size_t>(n));
+  }
+  const std::size_t at = pointer.size();
+  if (PyDict_Check(o)) {
+    json object = json::object();
+    PyObject *key = nullptr, *value = nullptr;
+    Py_ssize_t position = 0;
+    while (PyDict_Next(o, &position, &key, &value)) {
+      if (!PyUnicode_Check(key))
+        throw fail("a key that is not a string: " + quoted_input(std::string(py::repr(key))));
+      const std::string k = py::reinterpret_borrow<py::str>(key);
+      pointer += '/';
+      pointer += pointer_token(k);
+      object[k] = to_json(value, name, pointer, depth + 1);
+      pointer.resize(at);
+    }
+    return object;
+  }
+  if (PyList_Check(o) || PyTuple_Check(o)) {
+    json array = json::array();
+    const py::sequence items = py::reinterpret_borrow<py::sequence>(h);
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      pointer += '/';
+      pointer += std::to_string(i);
+      array.push_back(to_json(items[i], name, pointer, depth + 1));
+      pointer.resize(at);
+    }
+    return array;
+  }
+  if (py::hasattr(h, "tolist") && py::hasattr(h, "dtype")) return to_json(h.attr("tolist")(), name, pointer, depth);
+  throw fail("a " + std::string(py::str(py::type::handle_of(h).attr("__name__"))) + ", which JSON cannot hold");
+}
+
+// lgi.run of a scene given as a dict (to_json), file names in it resolved from `directory`.
+py::dict run_dict(const py::dict& scene, const std::string& name, const std::string& directory) {
+  json document;
+  try {
+    std::string pointer;
+    document = to_json(scene, name, pointer);
   } catch (const InputError& e) {
     return input_error(e);
   }
@@ -414,30 +476,37 @@ std::pair<int, std::string> command_in_memory(int (*command)(const Options&), Op
 }
 
 // lgi.sweep: the sweep `document` (a sweep file's JSON; `name` names it in messages and its directory resolves file
-// names) run by `lgi sweep` (sweep_command.hpp) on `threads` threads with the GIL released, its CSV written into
-// memory. {"csv": the CSV's text} or {"error", "exit_status"}.
-py::dict sweep(const std::string& text, const std::string& name, int threads) {
+// names) run by `lgi sweep -o OUTPUT` (sweep_command.hpp) on `threads` threads with the GIL released: its CSV in
+// OUTPUT and, when it records crossings, the crossings file beside it (crossings_path). {"crossings": whether it
+// wrote one} or {"error", "exit_status"}.
+py::dict sweep(const std::string& text, const std::string& name, int threads, const std::string& output) {
   json document;
+  bool crossings = false;
   try {
     document = parse_json(text, name);
-    const Sweep s = parse_sweep(document, name);  // the command's checks, with their messages, before it runs
-    if (s.records(Record::crossings))
-      throw InputError(name + ": /sweep/section: lgi.sweep does not take crossings yet (they go to a file of their "
-                       "own): run lgi sweep -o FILE");
+    // The command's checks, with their messages, before it runs.
+    crossings = parse_sweep(document, name).records(Record::crossings);
   } catch (const InputError& e) {
     return input_error(e);
   }
   SweepCommandOptions options;
   options.sweep_file = name;
   options.threads = threads;
-  const auto [status, csv] = command_in_memory(sweep_command, options, document);
+  options.document = &document;
+  options.output = output;
+  options.quiet = true;
+  int status = 0;
+  {
+    py::gil_scoped_release released;
+    status = sweep_command(options);
+  }
   py::dict out;
   if (status != 0) {
     out["error"] = name + ": lgi sweep failed (exit status " + std::to_string(status) + "; its message is on stderr)";
     out["exit_status"] = status;
     return out;
   }
-  out["csv"] = py::bytes(csv);
+  out["crossings"] = crossings;
   return out;
 }
 
@@ -525,6 +594,7 @@ PYBIND11_MODULE(_lgi, m) {
   m.doc() = "lgi's engine (lgi run) for Python; use the package lgi";
   m.def("run_file", &lgi::app::run_file, py::arg("path"));
   m.def("run_text", &lgi::app::run_text, py::arg("text"), py::arg("name"), py::arg("directory"));
+  m.def("run_dict", &lgi::app::run_dict, py::arg("scene"), py::arg("name"), py::arg("directory"));
   m.def("view", &lgi::app::view, py::arg("csv"), py::arg("scene_text"), py::arg("scene_name"), py::arg("directory"),
         py::arg("output"), py::arg("axis"), py::arg("max_frames"));
   py::class_<lgi::app::Batch>(m, "Batch")
@@ -545,7 +615,7 @@ PYBIND11_MODULE(_lgi, m) {
   m.def("load_plugin", &lgi::app::plugin, py::arg("path"));
   m.def("register_callable", &lgi::app::register_callable, py::arg("id"), py::arg("f"));
   lgi::app::add_problem(lgi::app::problem_info_python_torque());
-  m.def("sweep", &lgi::app::sweep, py::arg("text"), py::arg("name"), py::arg("threads"));
+  m.def("sweep", &lgi::app::sweep, py::arg("text"), py::arg("name"), py::arg("threads"), py::arg("output"));
 #ifdef LGI_PYTHON_FIT
   m.def("fit", &lgi::app::fit, py::arg("text"), py::arg("name"));
 #endif

@@ -68,13 +68,11 @@ class Result:
     def __init__(self, raw):
         data = raw["data"]
         names = raw["names"]
-        self.columns = {name: data[:, k] for k, name in enumerate(names)}
-        for k, name in enumerate(raw.get("scene_names", [])):
-            self.columns.setdefault(name, raw["scene_data"][:, k])
-        self.t = self.columns["t"]
-        if "R11" in self.columns:
-            self.R = data[:, names.index("R11"):names.index("R11") + 9].reshape(-1, 3, 3)
-            self.omega = data[:, names.index("omega1"):names.index("omega1") + 3]
+        self.t = data[:, 0]  # the standard row: t, R11 … R33, omega1 … omega3, ... (every problem's)
+        if names[1:2] == ["R11"]:
+            self.R = data[:, 1:10].reshape(-1, 3, 3)
+            self.omega = data[:, 10:13]
+        self._columns, self._scene_columns = None, (raw.get("scene_names", []), raw.get("scene_data"))
         self.quaternion = raw.get("quaternion")
         self.summary = raw["summary"]
         self.status = raw["status"]
@@ -82,6 +80,15 @@ class Result:
         self.wall_seconds = raw["wall_seconds"]
         self.method = raw["method"]
         self._names, self._data, self._scene = names, data, None  # for view()
+
+    @property
+    def columns(self):
+        if self._columns is None:  # made on first use: most calls never ask
+            self._columns = {name: self._data[:, k] for k, name in enumerate(self._names)}
+            names, data = self._scene_columns
+            for k, name in enumerate(names):
+                self._columns.setdefault(name, data[:, k])
+        return self._columns
 
     def __repr__(self):
         return "<lgi.Result %s: %d rows to t = %g, %s>" % (self.method, len(self.t), self.t[-1] if len(self.t) else 0,
@@ -95,14 +102,10 @@ def run(scene):
     not complete, TypeError for anything else. File names in a dict (a torque table) are resolved from the current
     directory.
     """
-    if isinstance(scene, (str, bytes, _os.PathLike)):
+    if isinstance(scene, dict):
+        raw = _lgi.run_dict(scene, "<dict>", "")  # "": file names resolved from the current directory
+    elif isinstance(scene, (str, bytes, _os.PathLike)):
         raw = _lgi.run_file(_os.fsdecode(scene))
-    elif isinstance(scene, dict):
-        try:
-            text = _json.dumps(scene, allow_nan=True)
-        except (TypeError, ValueError) as e:
-            raise InputError("<dict>: not a JSON document: %s" % e, 1) from None
-        raw = _lgi.run_text(text, "<dict>", _os.getcwd())
     else:
         raise TypeError("lgi.run: expected a scene file's path or the scene as a dict, got %s" % type(scene).__name__)
     if "data" not in raw:
@@ -214,25 +217,57 @@ def _add_problem_classes():
 _add_problem_classes()
 
 
+def _csv_columns(text):
+    """(names, {name: numpy array}) of a CSV's text: numbers as float64 (an empty field as nan), other columns as
+    strings."""
+    import csv as _csv
+    import io as _io
+    rows = list(_csv.reader(_io.StringIO(text)))
+    names, body = rows[0], rows[1:]
+    columns = {}
+    for k, name in enumerate(names):
+        cells = [row[k] for row in body]
+        try:
+            columns[name] = _np.array([float(c) if c != "" else _np.nan for c in cells])
+        except ValueError:
+            columns[name] = _np.array(cells)
+    return names, columns
+
+
+class Crossings:
+    """A sweep's Poincaré-section crossings (docs/sweep.md, "The crossings file"), one row per crossing, members in
+    member order: member (n,) and crossing (n,) as integers (the crossing's index within its member), t (n,), R
+    (n, 3, 3), omega (n, 3); csv holds the command's crossings file."""
+
+    def __init__(self, text):
+        self.csv = text
+        names, columns = _csv_columns(text)
+        self.member = columns["member"].astype(_np.int64)
+        self.crossing = columns["crossing"].astype(_np.int64)
+        self.t = columns["t"]
+        self.R = _np.stack([columns["R%d%d" % (i, j)] for i in (1, 2, 3) for j in (1, 2, 3)], axis=-1).reshape(-1, 3, 3)
+        self.omega = _np.stack([columns["omega%d" % i] for i in (1, 2, 3)], axis=-1)
+
+    def __len__(self):
+        return len(self.t)
+
+    def of(self, member):
+        """The indices of member's crossings (in time order)."""
+        return _np.flatnonzero(self.member == member)
+
+    def __repr__(self):
+        return "<lgi.Crossings %d crossings of %d members>" % (len(self), len(_np.unique(self.member)))
+
+
 class SweepResult:
     """The rows of a sweep, one per member, as `lgi sweep` writes them (docs/sweep.md): columns maps every CSV column
     to a numpy array — numbers as float64 (an empty field, a number that was not finite, as nan), the status column
-    as strings — and csv holds the command's bytes."""
+    as strings — and csv holds the command's bytes; crossings: a Crossings where the sweep records them, else None."""
 
-    def __init__(self, text):
-        import csv as _csv
-        import io as _io
+    def __init__(self, text, crossings=None):
         self.csv = text
-        rows = list(_csv.reader(_io.StringIO(text)))
-        names, body = rows[0], rows[1:]
-        self.columns = {}
-        for k, name in enumerate(names):
-            cells = [row[k] for row in body]
-            try:
-                self.columns[name] = _np.array([float(c) if c != "" else _np.nan for c in cells])
-            except ValueError:
-                self.columns[name] = _np.array(cells)
-        self.names = names
+        self.names, self.columns = _csv_columns(text)
+        self.crossings = Crossings(crossings) if crossings is not None else None
 
     def __len__(self):
         return len(next(iter(self.columns.values()))) if self.columns else 0
@@ -244,15 +279,25 @@ class SweepResult:
 def sweep(sweep, threads=1):
     """Run a sweep (docs/sweep.md): a sweep file's path, or the sweep as a dict (a scene with a "sweep" section), on
     `threads` threads (0: all cores; the rows do not depend on it) with the engine of `lgi sweep`, the GIL released.
-    Returns a SweepResult; a sweep that does not load raises InputError with the command's message. Crossings
-    (records written to a file of their own) are not taken yet."""
+    Returns a SweepResult (with its crossings where the sweep records them); a sweep that does not load raises
+    InputError with the command's message. The command's files are written to a temporary directory, read and
+    removed."""
+    import tempfile
     text, name, _ = _scene_text(sweep)
-    raw = _lgi.sweep(text, name, int(threads))
-    if "error" in raw:
-        if raw["exit_status"] == 1:
-            raise InputError(raw["error"], 1)
-        raise LgiError(raw["error"], raw["exit_status"])
-    return SweepResult(raw["csv"].decode())
+    with tempfile.TemporaryDirectory(prefix="lgi_sweep_") as work:
+        output = _os.path.join(work, "sweep.csv")
+        raw = _lgi.sweep(text, name, int(threads), output)
+        if "error" in raw:
+            if raw["exit_status"] == 1:
+                raise InputError(raw["error"], 1)
+            raise LgiError(raw["error"], raw["exit_status"])
+        with open(output, encoding="utf-8") as f:
+            rows = f.read()
+        crossings = None
+        if raw["crossings"]:
+            with open(_os.path.join(work, "sweep.crossings.csv"), encoding="utf-8") as f:
+                crossings = f.read()
+    return SweepResult(rows, crossings)
 
 
 def fit(fit):
@@ -294,7 +339,8 @@ class TorqueBody(Problem):
         r = lgi.integrate(lgi.TorqueBody(inertia=[1, 2, 3], torque=damping), omega0=[1, 0.1, 0], t=10, method="rkmk4",
                           dt=1e-3)
 
-    Methods: rkmk4 (fixed steps) and rkmk_vern9_cayley (adaptive; "auto" takes it). No
+    Methods: lgvi (its forced Lagrange-d'Alembert form, dM/domega by forward differences: 4 calls and more a step),
+    rkmk4 (fixed steps) and rkmk_vern9_cayley (adaptive; "auto" takes it). No
     potential: the energy column is the kinetic energy; momentum_1..3 and momentum_norm follow. An exception in the
     function, or a result that is not 3 finite numbers, stops the run at that step: RunError with the function's
     message and the rows so far. lgi keeps every function it was given for the life of the process.

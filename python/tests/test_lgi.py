@@ -80,6 +80,30 @@ def test_bad_input_raises_value_error_with_the_command_message_and_status():
         lgi.run(42)
 
 
+def test_a_dict_is_read_as_its_json_would_be(tmp_path):
+    # numpy arrays and scalars are taken as their lists and numbers; the run is the one of the same JSON text.
+    scene = dict(heavy_top(), output={"interval": 0.05})
+    (tmp_path / "scene.json").write_text(json.dumps(scene))
+    as_numpy = dict(scene, initial={"omega": np.array([0.1, 0.2, 5.0])}, t_end=np.float64(1.0))
+    a, b = lgi.run(as_numpy), lgi.run(tmp_path / "scene.json")
+    assert len(a.t) > 10 and np.array_equal(a._data, b._data)
+    refused = [
+        (dict(scene, t_end=float("nan")), r"^<dict>: /t_end: nan is not a number JSON can hold$"),
+        (dict(scene, initial={"omega": [0.1, float("inf"), 5]}), r"^<dict>: /initial/omega/1: inf is not a number"),
+        (dict(scene, problem=dict(scene["problem"], **{"a/b": 1})), r"^<dict>: /problem/a~1b: unknown key"),
+        (dict(scene, extra={1: 2}), r"^<dict>: /extra: a key that is not a string: \"1\""),
+        (dict(scene, t_end=2 ** 70), r"^<dict>: /t_end: the integer \"1180591620717411303424\" does not fit in 64 bits"),
+        (dict(scene, t_end={1.5}), r"^<dict>: /t_end: a set, which JSON cannot hold"),
+    ]
+    for bad, message in refused:
+        with pytest.raises(lgi.InputError, match=message):
+            lgi.run(bad)
+    deep = {}
+    deep["self"] = deep  # a dict that holds itself: refused at the depth limit, no recursion without end
+    with pytest.raises(lgi.InputError, match=r"^<dict>: /extra(/self)+: nested deeper than 64 levels"):
+        lgi.run(dict(scene, extra=deep))
+
+
 def test_a_failed_step_raises_with_the_rows_it_reached():
     scene = heavy_top(method="lgvi", dt=0.5)  # h|Omega| = 2.5: beyond the LGVI's implicit equation
     with pytest.raises(lgi.RunError) as e:
@@ -375,8 +399,34 @@ def test_a_sweep_refuses_what_the_command_refuses():
     sweep["sweep"]["grid"] = {"/initial/nope": [1, 2]}
     with pytest.raises(ValueError, match=r"<dict>: /sweep/grid/~1initial~1nope: \"/initial/nope\" is not in the scene"):
         lgi.sweep(sweep)
-    with pytest.raises(ValueError, match="does not take crossings yet"):
-        lgi.sweep(os.path.join(SOURCE, "examples", "sweep", "heavy_top_poincare.json"))
+
+
+def test_a_sweep_s_crossings_are_the_command_s(tmp_path):
+    with open(os.path.join(SOURCE, "examples", "sweep", "heavy_top_poincare.json")) as f:
+        sweep = json.load(f)
+    sweep["t_end"] = 50.0
+    sweep["sweep"]["grid"]["/initial/euler_angles/2"]["count"] = 20
+    path = tmp_path / "poincare.json"
+    path.write_text(json.dumps(sweep))
+    out = tmp_path / "poincare.csv"
+    done = subprocess.run([LGI, "sweep", "-q", str(path), "-o", str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    result = lgi.sweep(path, threads=2)
+    assert result.csv == out.read_text()
+    command = (tmp_path / "poincare.crossings.csv").read_text()
+    assert result.crossings.csv == command
+    c = result.crossings
+    rows = [line.split(",") for line in command.splitlines()[1:]]
+    assert len(c) == len(rows) > 0
+    k = len(rows) // 2
+    assert c.member[k] == int(rows[k][0]) and c.crossing[k] == int(rows[k][1]) and c.t[k] == float(rows[k][2])
+    assert np.array_equal(c.R[k], np.array([float(x) for x in rows[k][3:12]]).reshape(3, 3))
+    assert np.array_equal(c.omega[k], [float(x) for x in rows[k][12:15]])
+    # Each member's count in the rows is its number of crossings.
+    counts = result.columns["crossings"]
+    for m in range(len(result)):
+        assert len(c.of(m)) == counts[m]
+    assert lgi.sweep(os.path.join(SOURCE, "examples", "sweep", "sleeping_top.json")).crossings is None
 
 
 def test_a_fit_gives_the_command_s_result(tmp_path):
@@ -423,6 +473,12 @@ def test_a_python_torque_runs_as_the_built_in_one_and_its_errors_stop_the_run():
         b = lgi.integrate(built_in, omega0=[1, 0.1, 0], t=2, method=method, **steps)
         assert np.array_equal(a.R, b.R) and np.array_equal(a.omega, b.omega), method
     assert lgi.integrate(body, omega0=[1, 0.1, 0], t=2, tolerance=1e-8).method == "rkmk_vern9_cayley"
+    # The LGVI's forced form: ∂M/∂Ω by forward differences for the Python torque, exact for the built-in term; both
+    # Newton iterations stop at the same tolerance, so the runs agree to it, not to the bit.
+    a = lgi.integrate(body, omega0=[1, 0.1, 0], t=2, method="lgvi", dt=1e-3)
+    b = lgi.integrate(built_in, omega0=[1, 0.1, 0], t=2, method="lgvi", dt=1e-3)
+    assert a.steps == b.steps == 2000
+    assert np.abs(a.R - b.R).max() < 1e-13 and np.abs(a.omega - b.omega).max() < 1e-13
 
     def fails(t, R, omega):
         if t > 0.5:
@@ -438,7 +494,8 @@ def test_a_python_torque_runs_as_the_built_in_one_and_its_errors_stop_the_run():
     with pytest.raises(lgi.RunError, match="not finite"):
         lgi.integrate(lgi.TorqueBody(inertia=[1, 2, 3], torque=lambda t, R, w: [np.nan, 0, 0]), omega0=[1, 0, 0], t=1,
                       method="rkmk4", dt=0.01)
-    with pytest.raises(ValueError, match="/integrator/method"):
-        lgi.integrate(body, omega0=[1, 0, 0], t=1, method="lgvi", dt=0.01)
+    with pytest.raises(ValueError, match=r"/integrator/method: .*methods that apply to python_torque: lgvi, rkmk4, "
+                                         r"rkmk_vern9_cayley"):
+        lgi.integrate(body, omega0=[1, 0, 0], t=1, method="rkmk3", dt=0.01)
     with pytest.raises(TypeError, match="expected a function"):
         lgi.TorqueBody(inertia=[1, 2, 3], torque=3)
