@@ -6,6 +6,7 @@
 // smallest error counted). Counted: cases whose true error exceeds 1e-10 (far above round-off and the reference's
 // error); the estimate, R's angle + |ΔΩ|/|Ω| as the truth is measured, must lie within a factor 10 of the truth on
 // ≥ 95 % of ≥ 200 counted cases.
+#include "csv_reader.hpp"
 #include "output_file.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
@@ -143,20 +144,10 @@ std::vector<std::vector<double>> rows_of(const Scene& scene, const std::string& 
     const RunReport r = run_scene(scene, options);
     if (r.summary.status != RunStatus::completed || !out.commit()) return {};
   }
+  std::vector<std::string> header;
   std::vector<std::vector<double>> rows;
-  std::FILE* f = std::fopen(path.c_str(), "r");
-  char line[4096];
-  if (!f || !std::fgets(line, sizeof line, f)) return {};  // the header
-  while (std::fgets(line, sizeof line, f)) {
-    std::vector<double> row;
-    for (char* p = line; *p && *p != '\n';) {
-      char* end = nullptr;
-      row.push_back(std::strtod(p, &end));
-      p = *end == ',' ? end + 1 : end;
-    }
-    rows.push_back(row);
-  }
-  std::fclose(f);
+  std::vector<int> lines;
+  read_csv(path, header, rows, lines, "run");
   std::remove(path.c_str());
   return rows;
 }

@@ -2,6 +2,7 @@
 // own integration (same bits as calling the driver directly).
 #include "test_problems.hpp"
 
+#include <csv_reader.hpp>
 #include <json_reader.hpp>
 #include <runner.hpp>
 #include <scene.hpp>
@@ -92,20 +93,10 @@ std::vector<std::vector<double>> csv_rows(const Scene& scene, const std::string&
     (void)run_scene(scene, options);
     EXPECT_TRUE(out.commit());
   }
+  std::vector<std::string> header;
   std::vector<std::vector<double>> rows;
-  std::FILE* f = std::fopen(path.c_str(), "r");
-  char line[4096];
-  if (!f || !std::fgets(line, sizeof line, f)) return rows;
-  while (std::fgets(line, sizeof line, f)) {
-    std::vector<double> row;
-    for (char* p = line; *p && *p != '\n';) {
-      char* end = nullptr;
-      row.push_back(std::strtod(p, &end));
-      p = *end == ',' ? end + 1 : end;
-    }
-    rows.push_back(row);
-  }
-  std::fclose(f);
+  std::vector<int> lines;
+  read_csv(path, header, rows, lines, "run");
   std::remove(path.c_str());
   return rows;
 }
