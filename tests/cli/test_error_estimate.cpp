@@ -6,7 +6,7 @@
 // smallest error counted). Counted: cases whose true error exceeds 1e-10 (far above round-off and the reference's
 // error); the estimate, R's angle + |ΔΩ|/|Ω| as the truth is measured, must lie within a factor 10 of the truth on
 // ≥ 95 % of ≥ 200 counted cases.
-#include "csv_reader.hpp"
+#include "run_rows.hpp"
 #include "output_file.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
@@ -137,18 +137,9 @@ TEST(ErrorEstimate, NotAvailableWhereItDoesNotApply) {
 // output times (its error ≈ 1e-13, 100× below the smallest bound checked, 10 × 1e-12). Every output of every case must
 // be within 10 × the tolerance (auto_method.hpp's measure: R's angle + |ΔΩ| / |Ω|).
 std::vector<std::vector<double>> rows_of(const Scene& scene, const std::string& path) {
-  {
-    OutputFile out(path);
-    RunOptions options;
-    options.csv = &out;
-    const RunReport r = run_scene(scene, options);
-    if (r.summary.status != RunStatus::completed || !out.commit()) return {};
-  }
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> rows;
-  std::vector<int> lines;
-  read_csv(path, header, rows, lines, "run");
-  std::remove(path.c_str());
+  RunReport r;
+  std::vector<std::vector<double>> rows = test::run_csv_rows(scene, path, &r);
+  if (r.summary.status != RunStatus::completed) return {};
   return rows;
 }
 

@@ -1,8 +1,8 @@
 // Scene loading in process: what a valid scene means, and that the runner adds nothing to the library's
 // own integration (same bits as calling the driver directly).
+#include "run_rows.hpp"
 #include "test_problems.hpp"
 
-#include <csv_reader.hpp>
 #include <json_reader.hpp>
 #include <runner.hpp>
 #include <scene.hpp>
@@ -84,23 +84,6 @@ TEST(Scene, RunnerMatchesTheLibraryBitForBit) {
   EXPECT_GT(report.newton_iterations, 0);
 }
 
-// The rows a run writes to its CSV, as numbers (the header skipped).
-std::vector<std::vector<double>> csv_rows(const Scene& scene, const std::string& path) {
-  {
-    OutputFile out(path);
-    RunOptions options;
-    options.csv = &out;
-    (void)run_scene(scene, options);
-    EXPECT_TRUE(out.commit());
-  }
-  std::vector<std::string> header;
-  std::vector<std::vector<double>> rows;
-  std::vector<int> lines;
-  read_csv(path, header, rows, lines, "run");
-  std::remove(path.c_str());
-  return rows;
-}
-
 struct Rows final : RowSink {
   std::vector<std::vector<double>> rows;
   void row(std::span<const double> columns) override { rows.emplace_back(columns.begin(), columns.end()); }
@@ -118,7 +101,7 @@ TEST(Scene, ARowSinkGetsTheNumbersTheCsvHolds) {
     "output": {"interval": 0.3}, "limits": {"max_steps": 50}})";
   for (const std::string& text : {std::string(kScene), columns, stops}) {
     const Scene s = parse(text);
-    const std::vector<std::vector<double>> written = csv_rows(s, path);
+    const std::vector<std::vector<double>> written = test::run_csv_rows(s, path);
     Rows sink;
     RunOptions options;
     options.rows = &sink;
