@@ -3,12 +3,14 @@
 // scripts/bench_report.py (docs/benchmarks.md and its plots). scripts/bench.sh runs it with everything else.
 //
 //   work_precision [--out FILE] [--cases DIR] [--refs DIR] [--only NAME[,NAME…]] [--reps N] [--max-run S]
-//                  [--long-t T] [--no-long] [--smoke] [--make-refs]
+//                  [--long-t T] [--no-long] [--smoke] [--make-refs] [--rhs-calls N]
 //
 //   --cases DIR   the case scene files, *.json (default: <source>/scenes/bench)
 //   --refs DIR    cached references, <case>.json (default: <source>/benchmarks/ref). A missing or stale one
 //                 (the scene changed: FNV-1a of the file) is computed and, outside --smoke, written there.
 //   --make-refs   recompute and write every reference, then exit (the generator of benchmarks/ref/)
+//   --rhs-calls N call each case's peer right-hand side N times, as the suite times it, then exit: run under
+//                 callgrind at two N, the difference gives its instructions per call (benchmarks/callgrind_rhs.sh)
 //   --smoke       tiny sizes for CI: 3 points per method, one repetition, long horizon T = 100, nothing
 //                 written but --out (default for --out: work_precision.json in the current directory)
 //
@@ -97,6 +99,7 @@ struct Options {
   bool long_horizon = true;
   bool smoke = false;
   bool make_refs = false;
+  long rhs_calls = 0;
 };
 
 [[noreturn]] void usage_error(const std::string& what) {
@@ -131,6 +134,7 @@ Options parse_args(int argc, char** argv) {
     else if (a == "--no-long") o.long_horizon = false;
     else if (a == "--smoke") o.smoke = true;
     else if (a == "--make-refs") o.make_refs = true;
+    else if (a == "--rhs-calls") o.rhs_calls = static_cast<long>(parse_number(a, value()));
     else usage_error("unknown argument '" + a + "'");
   }
   if (o.smoke) {
@@ -881,6 +885,10 @@ int main(int argc, char** argv) {
 
     if (o.make_refs) {
       for (const Case& c : cases) get_reference(c, o, true);
+      return 0;
+    }
+    if (o.rhs_calls > 0) {
+      for (const Case& c : cases) (void)peer_rhs_seconds(c, 1, o.rhs_calls);
       return 0;
     }
     json out;

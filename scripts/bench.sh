@@ -9,6 +9,7 @@
 #   2. bench_steps         ns/step, Google Benchmark, median of 3 (heavy_top and free_body cases)
 #                                                                               -> BUILD_DIR/bench/bench_steps.json
 #   3. callgrind_steps.sh  instructions/step of every method on the HV heavy top  -> BUILD_DIR/bench/callgrind.md
+#      callgrind_rhs.sh    instructions per call of the peers' right-hand side      -> BUILD_DIR/bench/callgrind_rhs.json
 #   4. memory              peak RSS of `lgi run` with output only at t = 0 and t_end, 10^4, 10^6 and 10^8 steps
 #                                                                               -> BUILD_DIR/bench/memory.json
 #   5. scripts/bench_report.py (Debian's /usr/bin/python3 + matplotlib)  -> docs/benchmarks.md, docs/img/*.png
@@ -69,8 +70,9 @@ fi
 # 3. instructions/step (callgrind; exact and repeatable)
 if ((!smoke)) && command -v valgrind > /dev/null; then
   PROBLEMS=heavy_top "$root/benchmarks/callgrind_steps.sh" "$build" > "$out/callgrind.md"
+  "$root/benchmarks/callgrind_rhs.sh" "$build" > "$out/callgrind_rhs.json"
 else
-  rm -f "$out/callgrind.md"
+  rm -f "$out/callgrind.md" "$out/callgrind_rhs.json"
 fi
 
 # 4. memory of long runs that write only their final state: peak RSS (ru_maxrss of the waited child).

@@ -4,7 +4,8 @@
     /usr/bin/python3 scripts/bench_report.py --results BUILD/bench --docs docs
 
 Reads RESULTS/work_precision.json (benchmarks/work_precision.cpp), and when present bench_steps.json (Google
-Benchmark), callgrind.md (benchmarks/callgrind_steps.sh) and memory.json (scripts/bench.sh); writes
+Benchmark), callgrind.md (benchmarks/callgrind_steps.sh), callgrind_rhs.json (benchmarks/callgrind_rhs.sh) and
+memory.json (scripts/bench.sh); writes
 DOCS/benchmarks.md and DOCS/img/wp_<case>.png (error at T against CPU time, one line per method),
 DOCS/img/long_<case>.png (energy error and ||R^T R - I|| against time). Run it under Debian's
 /usr/bin/python3: the first python3 on PATH may be an interpreter without matplotlib. Numbers are copied
@@ -22,6 +23,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 TARGETS = ["1e-06", "1e-08", "1e-10", "1e-12"]
+# Right-hand-side evaluations per fixed step of the stage methods (their tableaus, integrators/butcher_tableaus.hpp;
+# fixed steps skip trailing stages with b_i = 0, integrators/rkmk.hpp: Verner 9(8) 15 of its 16, DP5 6 of its 7).
+STAGES = {"rk4quat": 4, "rkmk_heun": 2, "rkmk3": 3, "rkmk4": 4, "rkmk4_38": 4, "rkmk4_cayley": 4, "rkmk_dp5": 6,
+          "rkmk_dp5_cayley": 6, "rkmk_dp8": 12, "rkmk_dp8_cayley": 12, "rkmk_vern9": 15, "rkmk_vern9_cayley": 15}
 EPS_LABEL = {"1e-06": "1e-6", "1e-08": "1e-8", "1e-10": "1e-10", "1e-12": "1e-12"}
 
 # The cost of throwaway prototypes of each algorithm measured when lgi was designed (heavy top, h = 0.01,
@@ -157,6 +162,10 @@ def main():
     img = os.path.join(a.docs, "img")
     os.makedirs(img, exist_ok=True)
     m = wp["machine"]
+    rhs_instr = {}  # the peers' right-hand side: instructions per call, by case (benchmarks/callgrind_rhs.sh)
+    rhs_path = os.path.join(a.results, "callgrind_rhs.json")
+    if os.path.exists(rhs_path):
+        rhs_instr = json.load(open(rhs_path))
     L = []
     w = L.append
     w("# Benchmarks")
@@ -263,8 +272,10 @@ def main():
         w("")
         if c.get("peer_rhs_ns"):
             r = c["peer_rhs_ns"]
-            w("The peers' right-hand side (scalar code, called through a function pointer): %.1f ns a call, quartiles "
-              "%.1f–%.1f ns over %d batches." % (r["median"], r["q1"], r["q3"], r["batches"]))
+            rhs_text = (" and %.0f instructions (callgrind, the loop's call included)" % rhs_instr[c["name"]]
+                        if c["name"] in rhs_instr else "")
+            w("The peers' right-hand side (scalar code, called through a function pointer): %.1f ns a call (quartiles "
+              "%.1f–%.1f ns over %d batches)%s." % (r["median"], r["q1"], r["q3"], r["batches"], rhs_text))
             w("")
         w("![work-precision %s](img/%s)" % (c["name"], png))
         w("")
@@ -375,6 +386,31 @@ def main():
                 "%.0f" % instr[method] if method in instr else "—",
                 ("%s: %d ns" % (an[0], an[1])) if an else "", ratio))
         w("")
+        # Per stage: the stage methods' cost per right-hand-side evaluation beside the peers' right-hand side.
+        hv = next((c for c in wp["cases"] if c["name"] == "hv_heavy_top" and c.get("peer_rhs_ns")), None)
+        staged = [k for k in STAGES if "heavy_top" in rows.get(k, {})]
+        if hv and staged:
+            w("### Per stage, HV heavy top")
+            w("")
+            w("A stage method's step over its right-hand-side evaluations (fixed steps; `rk4quat`: RK4 on the "
+              "quaternion and Ω, the peers' formulation, hand-written) against the peers' right-hand side alone "
+              "(`hv_heavy_top` above: %.1f ns%s a call): what a stage costs beyond the right-hand side is its "
+              "share of the stage sums and, for lgi, the chart (dexp⁻¹ or dcay⁻¹ and the stage attitude)."
+              % (hv["peer_rhs_ns"]["median"],
+                 " and %.0f instructions" % rhs_instr["hv_heavy_top"] if "hv_heavy_top" in rhs_instr else ""))
+            w("")
+            w("| method | stages | ns/stage | instr./stage | ns/stage ÷ peer RHS ns | instr./stage ÷ peer RHS instr. |")
+            w("|---|---:|---:|---:|---:|---:|")
+            peer_ns = hv["peer_rhs_ns"]["median"]
+            peer_in = rhs_instr.get("hv_heavy_top")
+            for k in sorted(staged, key=lambda k: rows[k]["heavy_top"] / STAGES[k]):
+                s = STAGES[k]
+                ns = rows[k]["heavy_top"] / s
+                ins = instr[k] / s if k in instr else None
+                w("| %s | %d | %.1f | %s | %.2f | %s |" % (
+                    k, s, ns, "%.0f" % ins if ins is not None else "—", ns / peer_ns,
+                    "%.2f" % (ins / peer_in) if ins is not None and peer_in else "—"))
+            w("")
     cg_path = os.path.join(a.results, "callgrind.md")
     if os.path.exists(cg_path):
         w("## Instructions per step (callgrind, HV heavy top)")
