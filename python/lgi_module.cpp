@@ -1,12 +1,12 @@
 // python/lgi_module.cpp — lgi._lgi, the extension module of lgi's Python package (python/lgi/__init__.py wraps it).
 //
-// run_file(path) / run_text(json, name): a scene loaded and run by the engine of `lgi run` (apps/scene.hpp,
-// apps/runner.hpp: the same loader, method, steps and rows), the GIL released while it integrates. The rows are
-// written as `lgi run` writes them — 17 significant digits, the standard columns (t, R11 … R33, omega1 … omega3,
-// energy, orthogonality_error, the problem's invariants) — into an anonymous memory file, and read back with
-// strtod: every number equals the command's CSV to the last digit. The scene's own "output.columns" (quaternion,
-// Euler angles, …) are computed from those rows by the command's mapper (apps/output_columns.hpp), and the
-// quaternion always. Returned as a dict of numpy arrays and the summary; errors are returned, not raised (the
+// run_file(path) / run_dict(scene, name, directory): a scene loaded and run by the engine of `lgi run`
+// (apps/scene.hpp, apps/runner.hpp: the same loader, method, steps and rows), the GIL released while it integrates;
+// a dict is read into JSON by to_json. The rows — the standard columns (t, R11 … R33, omega1 … omega3, energy,
+// orthogonality_error, the problem's invariants) — come as the runner's doubles through a RowSink, the numbers
+// `lgi run` prints with 17 significant digits: each equals the command's CSV to the last digit. The scene's own
+// "output.columns" (quaternion, Euler angles, …) are computed from those rows by the command's mapper
+// (apps/output_columns.hpp), and the quaternion always. Returned as a dict of numpy arrays and the summary; errors are returned, not raised (the
 // package raises them): "error" holds the command's one-line message and "exit_status" its exit status.
 //
 // view(...): the page of `lgi view`. Batch: many bodies by the batched kernels (core/batch.hpp).
@@ -44,6 +44,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <optional>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -207,16 +208,6 @@ py::dict run_file(const std::string& path) {
     return input_error(e);
   }
   return run(document, path, {});
-}
-
-py::dict run_text(const std::string& text, const std::string& name, const std::string& directory) {
-  json document;
-  try {
-    document = parse_json(text, name);
-  } catch (const InputError& e) {
-    return input_error(e);
-  }
-  return run(document, name, directory);
 }
 
 // The JSON value of a Python object given as a document (a scene as a dict): dicts with string keys, lists and
@@ -459,20 +450,23 @@ class Batch {
   BodyBatch bodies_;
 };
 
-// `command` (sweep_command, fit_command) run on `document` with `options` (its file name and settings), quiet, its
-// output written into memory, the GIL released: its exit status and the output's bytes.
+// `command` (sweep_command, fit_command) run on `document` with `options` (its file name and settings), quiet, the
+// GIL released, its output written to `output`, or into memory when `output` is empty: its exit status and, written
+// into memory, the output's bytes.
 template <class Options>
-std::pair<int, std::string> command_in_memory(int (*command)(const Options&), Options options, const json& document) {
-  MemoryFile memory;
+std::pair<int, std::string> run_command(int (*command)(const Options&), Options options, const json& document,
+                                        const std::string& output = {}) {
+  std::optional<MemoryFile> memory;
+  if (output.empty()) memory.emplace();
   options.document = &document;
-  options.output = memory.path();
+  options.output = memory ? memory->path() : output;
   options.quiet = true;
   int status = 0;
   {
     py::gil_scoped_release released;
     status = command(options);
   }
-  return {status, memory.contents()};
+  return {status, memory ? memory->contents() : std::string()};
 }
 
 // lgi.sweep: the sweep `document` (a sweep file's JSON; `name` names it in messages and its directory resolves file
@@ -492,14 +486,7 @@ py::dict sweep(const std::string& text, const std::string& name, int threads, co
   SweepCommandOptions options;
   options.sweep_file = name;
   options.threads = threads;
-  options.document = &document;
-  options.output = output;
-  options.quiet = true;
-  int status = 0;
-  {
-    py::gil_scoped_release released;
-    status = sweep_command(options);
-  }
+  const int status = run_command(sweep_command, options, document, output).first;
   py::dict out;
   if (status != 0) {
     out["error"] = name + ": lgi sweep failed (exit status " + std::to_string(status) + "; its message is on stderr)";
@@ -526,7 +513,7 @@ py::dict fit(const std::string& text, const std::string& name) {
   }
   FitCommandOptions options;
   options.fit_file = name;
-  const auto [status, result] = command_in_memory(fit_command, options, document);
+  const auto [status, result] = run_command(fit_command, options, document);
   py::dict out;
   out["exit_status"] = status;
   if (result.empty())
@@ -593,7 +580,6 @@ py::list problems() {
 PYBIND11_MODULE(_lgi, m) {
   m.doc() = "lgi's engine (lgi run) for Python; use the package lgi";
   m.def("run_file", &lgi::app::run_file, py::arg("path"));
-  m.def("run_text", &lgi::app::run_text, py::arg("text"), py::arg("name"), py::arg("directory"));
   m.def("run_dict", &lgi::app::run_dict, py::arg("scene"), py::arg("name"), py::arg("directory"));
   m.def("view", &lgi::app::view, py::arg("csv"), py::arg("scene_text"), py::arg("scene_name"), py::arg("directory"),
         py::arg("output"), py::arg("axis"), py::arg("max_frames"));

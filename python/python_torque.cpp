@@ -8,8 +8,8 @@
 // is the kinetic energy ½ Ω·JΩ, changed by the torque's work; the columns after it are the spatial momentum
 // m = R J Ω and |JΩ| (rigid_body's). An exception raised by f, or a result that is not 3 finite numbers, makes the
 // torque NaN: the step fails (non_finite), the run stops there with its rows, and the package raises RunError with
-// f's message (callback_error). Methods: rkmk4 and rkmk_vern9_cayley (LGI_ENABLED_METHODS in python/CMakeLists.txt);
-// not the LGVI, whose forced form needs ∂M/∂Ω.
+// f's message (callback_error). Methods: lgvi (its forced form, ∂M/∂Ω by forward differences, integrators/lgvi.hpp),
+// rkmk4 and rkmk_vern9_cayley (LGI_ENABLED_METHODS in python/CMakeLists.txt).
 #include "problem_model.hpp"
 #include "registry.hpp"
 
