@@ -35,7 +35,7 @@
 #endif
 
 // Runtime-dispatched copies of the hottest steps (integrators/splitting.hpp: kick + DMV and the other
-// splittings; integrators/rkmk.hpp: the RKMK step, trial step and dense output; in double): GCC's target_clones compiles the step for the x86-64 baseline and for AVX2, and
+// splittings, in double): GCC's target_clones compiles the step for the x86-64 baseline and for AVX2, and
 // the dynamic loader picks one for the machine (an ifunc). The AVX2 copy does the same IEEE operations in the
 // same order — three-operand VEX encoding and wider registers, no FMA (GCC contracts a·b + c only where FMA
 // instructions are enabled, and "avx2" does not enable them) — so results are the same bit for bit

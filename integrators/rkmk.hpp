@@ -132,29 +132,6 @@ namespace lgi {
 /// kind) or R = R_n cay(u) (the Cayley map).
 enum class LieChart : std::uint8_t { exp, cayley };
 
-#if defined(LGI_DISPATCH_CLONES)
-namespace detail {
-// The RKMK step, trial step and dense output in double, compiled for the baseline and for AVX2 (core/scalar.hpp),
-// with the same results bit for bit (tests/core/test_dispatch.cpp).
-template <class S>
-[[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_rkmk_step(S& s, typename S::Internal& x,
-                                                                                      double t, double h) {
-  return s.step_inline(x, t, h);
-}
-template <class S>
-[[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_rkmk_attempt(
-    const S& s, const typename S::Internal& x, double t, double h, typename S::Internal& x1, double& error,
-    typename S::Dense& d) {
-  return s.attempt_inline(x, t, h, x1, error, d);
-}
-template <class S>
-[[gnu::target_clones("avx2", "default"), gnu::flatten]] typename S::Internal dispatched_rkmk_dense(
-    const S& s, typename S::Dense& d, double theta) {
-  return s.dense_inline(d, theta);
-}
-}  // namespace detail
-#endif
-
 /// The RKMK method of Butcher tableau Tableau (butcher_tableaus.hpp) as a Stepper on problem P (this header):
 /// explicit, the tableau's order, R on SO(3) to round-off; an AdaptiveStepper when the tableau is an embedded pair.
 /// SeriesDegree: the last ad-power kept in the J_r⁻¹ series (−1: the default, the least that keeps the
@@ -272,18 +249,9 @@ class Rkmk {
   /// One fixed step from t to t + h (the header's update, the tableau's stages up to its last non-zero b_i): ok or
   /// non_finite, x untouched unless ok. Cost: one torque per stage (none without torque), one exponential or
   /// Cayley map per stage with a torque and one for the update; no allocation.
-  /// In double through the copy compiled for this machine's instruction set (core/scalar.hpp, LGI_DISPATCH_CLONES;
-  /// the same results bit for bit); step_inline is the step itself.
   LGI_FLATTEN StepStatus step(Internal& x, const Scalar& t, const Scalar& h) {
-#if defined(LGI_DISPATCH_CLONES)
-    if constexpr (std::is_same_v<Scalar, double>) return detail::dispatched_rkmk_step(*this, x, t, h);
-#endif
-    return step_inline(x, t, h);
-  }
-  /// step() compiled for the baseline instruction set: the header's update in the internal frame.
-  LGI_FLATTEN StepStatus step_inline(Internal& x, const Scalar& t, const Scalar& h) {
     if constexpr (lever_in_principal_axes)
-      if (!axes_.identity) return step_in<true>(x, t, h);
+      if (!axes_.identity) return step_principal(x, t, h);
     return step_in<false>(x, t, h);
   }
 
@@ -308,43 +276,23 @@ class Rkmk {
 
   /// One trial step of size h from (x, t): the new state in x1 (x untouched) and the scaled error norm in
   /// `error` (≤ 1: acceptable). The stages stay in `d` for dense_output. Status non_finite when the trial
-  /// state is not finite (then `error` is +inf). In double through the copy compiled for this machine, as step().
+  /// state is not finite (then `error` is +inf).
   LGI_FLATTEN StepStatus attempt(const Internal& x, const Scalar& t, const Scalar& h, Internal& x1, double& error,
                                  Dense& d) const
     requires embedded
   {
-#if defined(LGI_DISPATCH_CLONES)
-    if constexpr (std::is_same_v<Scalar, double>) return detail::dispatched_rkmk_attempt(*this, x, t, h, x1, error, d);
-#endif
-    return attempt_inline(x, t, h, x1, error, d);
-  }
-  /// attempt() compiled for the baseline instruction set.
-  LGI_FLATTEN StepStatus attempt_inline(const Internal& x, const Scalar& t, const Scalar& h, Internal& x1,
-                                        double& error, Dense& d) const
-    requires embedded
-  {
     if constexpr (lever_in_principal_axes)
-      if (!axes_.identity) return attempt_in<true>(x, t, h, x1, error, d);
+      if (!axes_.identity) return attempt_principal(x, t, h, x1, error, d);
     return attempt_in<false>(x, t, h, x1, error, d);
   }
 
   /// The state at t + θh of the step that filled d (θ ∈ [0, 1]): R_n exp(u(θh)), Ω(θh) from the continuous
-  /// extension in the Lie algebra. Computes the dense-only stages on the first call for a step. In double through
-  /// the copy compiled for this machine, as step().
+  /// extension in the Lie algebra. Computes the dense-only stages on the first call for a step.
   LGI_FLATTEN Internal dense_output(Dense& d, const Scalar& theta) const
     requires embedded
   {
-#if defined(LGI_DISPATCH_CLONES)
-    if constexpr (std::is_same_v<Scalar, double>) return detail::dispatched_rkmk_dense(*this, d, theta);
-#endif
-    return dense_inline(d, theta);
-  }
-  /// dense_output() compiled for the baseline instruction set.
-  LGI_FLATTEN Internal dense_inline(Dense& d, const Scalar& theta) const
-    requires embedded
-  {
     if constexpr (lever_in_principal_axes)
-      if (!axes_.identity) return dense_in<true>(d, theta);
+      if (!axes_.identity) return dense_principal(d, theta);
     return dense_in<false>(d, theta);
   }
 
@@ -356,16 +304,28 @@ class Rkmk {
   const P& problem() const { return problem_; }
 
  private:
-  /// The step, trial step and dense output, with the torque Γ × Qᵀv in principal axes (Pr) or the problem's:
-  /// two copies, chosen once per call, rather than a test at every stage, which slows the body-frame step
-  /// (docs/performance.md, "Design measurements behind the code").
+  /// The step, trial step and dense output, with the torque Γ × Qᵀv in principal axes (Pr) or the problem's.
+  /// Two copies rather than a test at every stage: the test slows the body-frame step (docs/performance.md,
+  /// "Design measurements behind the code").
+  [[gnu::noinline]] LGI_FLATTEN StepStatus step_principal(Internal& x, const Scalar& t, const Scalar& h) {
+    return step_in<true>(x, t, h);
+  }
+  [[gnu::noinline]] LGI_FLATTEN StepStatus attempt_principal(const Internal& x, const Scalar& t, const Scalar& h,
+                                                             Internal& x1, double& error, Dense& d) const {
+    return attempt_in<true>(x, t, h, x1, error, d);
+  }
+  [[gnu::noinline]] LGI_FLATTEN Internal dense_principal(Dense& d, const Scalar& theta) const {
+    return dense_in<true>(d, theta);
+  }
+
   template <bool Pr>
   StepStatus step_in(Internal& x, const Scalar& t, const Scalar& h) {
     std::array<Vec6, Tableau.stages> K;
     Vec3<Scalar> Gamma;  // Rᵀa at the start of the step (reduced-attitude problems)
     if constexpr (reduced) Gamma = x.R.transpose() * problem_.reduced_axis();
-    first_stage<Pr>(x, Gamma, t, K);
-    for (int i = 1; i < update_stages; ++i) stage<Pr>(i, x, Gamma, t, h, K);
+    [&]<int... I>(std::integer_sequence<int, I...>) {
+      (stage<I, Pr>(x, Gamma, t, h, K), ...);
+    }(std::make_integer_sequence<int, update_stages>{});
     const Vec6 sum = weighted_sum<Weights::b, update_stages>(K);
     const Vec3<Scalar> u = sum.template head<3>(), dOmega = sum.template tail<3>();
     // R exp(hu) as R + R (exp(hu) − I): see core/so3.hpp on the rounding of the increment.
@@ -381,8 +341,9 @@ class Rkmk {
     d.h = h;
     d.extended = false;
     if constexpr (reduced) d.Gamma = x.R.transpose() * problem_.reduced_axis();
-    first_stage<Pr>(x, d.Gamma, t, d.K);
-    for (int i = 1; i < Tableau.stages; ++i) stage<Pr>(i, x, d.Gamma, t, h, d.K);
+    [&]<int... I>(std::integer_sequence<int, I...>) {
+      (stage<I, Pr>(x, d.Gamma, t, h, d.K), ...);
+    }(std::make_integer_sequence<int, Tableau.stages>{});
     const Vec6 sum = weighted_sum<Weights::b, Tableau.stages>(d.K), err = weighted_sum<Weights::e, Tableau.stages>(d.K);
     const Vec3<Scalar> u = sum.template head<3>(), dOmega = sum.template tail<3>(), du = err.template head<3>(),
                        dW = err.template tail<3>();
@@ -431,7 +392,9 @@ class Rkmk {
   template <bool Pr>
   Internal dense_in(Dense& d, const Scalar& theta) const {
     if (!d.extended) {
-      for (int i = Tableau.stages; i < dense_stages; ++i) stage<Pr>(i, d.x, d.Gamma, d.t, d.h, d.K);
+      [&]<int... I>(std::integer_sequence<int, I...>) {
+        (stage<Tableau.stages + I, Pr>(d.x, d.Gamma, d.t, d.h, d.K), ...);
+      }(std::make_integer_sequence<int, dense_stages - Tableau.stages>{});
       d.extended = true;
     }
     std::array<Scalar, dense_stages> w;
@@ -477,79 +440,56 @@ class Rkmk {
     return J_.solve(Vec3<Scalar>(J_.apply(Omega).cross(Omega)));
   }
 
-  /// The non-zero entries of the tableau's rows, stage by stage: row i's columns j (increasing) with a_ij ≠ 0 are
-  /// col[begin[i]] … col[begin[i + 1] − 1] (rows ≥ Tableau.stages: the dense-output stages).
-  struct Rows {
-    std::array<int, dense_stages + 1> begin{};
-    std::array<int, dense_stages * dense_stages> col{};
-  };
-  static constexpr Rows rows = [] {
-    Rows r;
-    int n = 0;
-    for (int i = 0; i < dense_stages; ++i) {
-      r.begin[static_cast<std::size_t>(i)] = n;
-      for (int j = 0; j < i; ++j)
-        if (Tableau.a[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] != 0) r.col[static_cast<std::size_t>(n++)] = j;
-    }
-    r.begin[dense_stages] = n;
-    return r;
-  }();
-
-  /// Stage 0: K_0 = (Ω_n, Ω'(t_n, R_n, Ω_n)).
-  template <bool Pr, std::size_t N>
-  void first_stage(const State<Scalar>& x, const Vec3<Scalar>& Gamma, const Scalar& t, std::array<Vec6, N>& K) const {
-    K[0].template head<3>() = x.Omega;
-    if constexpr (reduced)
-      K[0].template tail<3>() = acceleration(x.Omega, reduced_torque<Pr>(Gamma));
-    else if constexpr (P::has_torque)
-      K[0].template tail<3>() = acceleration(x.Omega, body_torque(problem_, t, x.R, x.Omega));
-    else
-      K[0].template tail<3>() = acceleration(x.Omega);
-  }
-
-  /// Stage i ≥ 1: K_i = (U_i, V_i). The six components share the tableau's coefficients and are combined as one
+  /// Stage I: K_I = (U_I, V_I). The six components share the tableau's coefficients and are combined as one
   /// 6-vector (three SSE2 packets instead of two 3-vectors' two packets and two scalars each; the same
-  /// operations element by element, so the same bits). The stages are a loop over the rows' non-zero entries
-  /// (Rows), summed in increasing j: the operations of a sum written out term by term, in the same order — the
-  /// same bits — in code that is the same for every stage, shorter and faster than the stages written out one by
-  /// one (docs/performance.md, "Design measurements behind the code").
-  template <bool Pr, std::size_t N>
-  void stage(int i, const State<Scalar>& x, const Vec3<Scalar>& Gamma, const Scalar& t, const Scalar& h,
+  /// operations element by element, so the same bits).
+  template <int I, bool Pr, std::size_t N>
+  void stage(const State<Scalar>& x, const Vec3<Scalar>& Gamma, const Scalar& t, const Scalar& h,
              std::array<Vec6, N>& K) const {
-    const auto I = static_cast<std::size_t>(i);
-    Vec6 sum = Vec6::Zero();
-    for (int k = rows.begin[I]; k < rows.begin[I + 1]; ++k) {
-      const auto j = static_cast<std::size_t>(rows.col[static_cast<std::size_t>(k)]);
-      sum += Scalar(Tableau.a[I][j]) * K[j];
-    }
-    const Vec3<Scalar> u = h * sum.template head<3>();
-    const Vec3<Scalar> W = x.Omega + h * sum.template tail<3>();
-    if constexpr (cayley) {
-      K[I].template head<3>() = so3::cayley_right_jacobian_inverse(u, W);
+    if constexpr (I == 0) {
+      K[0].template head<3>() = x.Omega;
+      if constexpr (reduced)
+        K[0].template tail<3>() = acceleration(x.Omega, reduced_torque<Pr>(Gamma));
+      else if constexpr (P::has_torque)
+        K[0].template tail<3>() = acceleration(x.Omega, body_torque(problem_, t, x.R, x.Omega));
+      else
+        K[0].template tail<3>() = acceleration(x.Omega);
+    } else {
+      Vec6 sum = Vec6::Zero();
+      [&]<int... J>(std::integer_sequence<int, J...>) {
+        ([&] {
+          if constexpr (Tableau.a[I][J] != 0) sum += Scalar(Tableau.a[I][J]) * K[J];
+        }(), ...);
+      }(std::make_integer_sequence<int, I>{});
+      const Vec3<Scalar> u = h * sum.template head<3>();
+      const Vec3<Scalar> W = x.Omega + h * sum.template tail<3>();
+      if constexpr (cayley) {
+        K[I].template head<3>() = so3::cayley_right_jacobian_inverse(u, W);
+        if constexpr (reduced) {
+          // Γ_i = cay(u)ᵀ Γ = Γ − A u × Γ + ½A u × (u × Γ), with u × (u × Γ) = (u·Γ) u − |u|² Γ
+          const Scalar u2 = u.squaredNorm();
+          const Scalar A = Scalar(4) / (Scalar(4) + u2);
+          const Scalar half_A = Scalar(0.5) * A;
+          const Vec3<Scalar> Gamma_i = Gamma - A * u.cross(Gamma) + half_A * (u.dot(Gamma) * u - u2 * Gamma);
+          K[I].template tail<3>() = acceleration(W, reduced_torque<Pr>(Gamma_i));
+        } else if constexpr (P::has_torque) {
+          const Mat3<Scalar> R = x.R * so3::cayley(u);
+          K[I].template tail<3>() = acceleration(W, body_torque(problem_, t + Scalar(Tableau.c[I]) * h, R, W));
+        } else {
+          K[I].template tail<3>() = acceleration(W);
+        }
+        return;
+      }
+      K[I].template head<3>() = so3::right_jacobian_inverse_series<series_degree>(u, W);
       if constexpr (reduced) {
-        // Γ_i = cay(u)ᵀ Γ = Γ − A u × Γ + ½A u × (u × Γ), with u × (u × Γ) = (u·Γ) u − |u|² Γ
-        const Scalar u2 = u.squaredNorm();
-        const Scalar A = Scalar(4) / (Scalar(4) + u2);
-        const Scalar half_A = Scalar(0.5) * A;
-        const Vec3<Scalar> Gamma_i = Gamma - A * u.cross(Gamma) + half_A * (u.dot(Gamma) * u - u2 * Gamma);
-        K[I].template tail<3>() = acceleration(W, reduced_torque<Pr>(Gamma_i));
+        const so3::Coefficients<Scalar> k = so3::exp_coefficients(u);  // Γ_i = exp(u)ᵀ Γ = exp(−u) Γ
+        K[I].template tail<3>() = acceleration(W, reduced_torque<Pr>(so3::rotate(u, Scalar(-k.A), k.B, Gamma)));
       } else if constexpr (P::has_torque) {
-        const Mat3<Scalar> R = x.R * so3::cayley(u);
+        const Mat3<Scalar> R = x.R * so3::exp(u);
         K[I].template tail<3>() = acceleration(W, body_torque(problem_, t + Scalar(Tableau.c[I]) * h, R, W));
       } else {
         K[I].template tail<3>() = acceleration(W);
       }
-      return;
-    }
-    K[I].template head<3>() = so3::right_jacobian_inverse_series<series_degree>(u, W);
-    if constexpr (reduced) {
-      const so3::Coefficients<Scalar> k = so3::exp_coefficients(u);  // Γ_i = exp(u)ᵀ Γ = exp(−u) Γ
-      K[I].template tail<3>() = acceleration(W, reduced_torque<Pr>(so3::rotate(u, Scalar(-k.A), k.B, Gamma)));
-    } else if constexpr (P::has_torque) {
-      const Mat3<Scalar> R = x.R * so3::exp(u);
-      K[I].template tail<3>() = acceleration(W, body_torque(problem_, t + Scalar(Tableau.c[I]) * h, R, W));
-    } else {
-      K[I].template tail<3>() = acceleration(W);
     }
   }
 

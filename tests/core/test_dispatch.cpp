@@ -1,13 +1,12 @@
-// tests/core/test_dispatch.cpp — the runtime-dispatched copies of the splitting and RKMK steps (core/scalar.hpp,
-// LGI_DISPATCH_CLONES; integrators/splitting.hpp, integrators/rkmk.hpp) give the same results bit for bit as the
-// steps compiled for the baseline instruction set. This executable is the one test built with the copies on: step()
-// goes through the copy the loader picked for this CPU (AVX2 where it has it), step_inline() is the baseline code of
-// this translation unit. Each splitting runs 3000 steps both ways from the same state, on the Hairer–Vilmart heavy
-// top (diagonal J), the skew top of test_problems.hpp (non-diagonal J, z0 and k off the axes) and a free body; the
-// final R, Ω and the internal momentum must match to the last bit. The RKMK methods likewise (below).
+// tests/core/test_dispatch.cpp — the runtime-dispatched copies of the splitting steps (core/scalar.hpp,
+// LGI_DISPATCH_CLONES; integrators/splitting.hpp) give the same results bit for bit as the step compiled for
+// the baseline instruction set. This executable is the one test built with the copies on: step() goes through
+// the copy the loader picked for this CPU (AVX2 where it has it), step_inline() is the baseline code of this
+// translation unit. Each method runs 3000 steps both ways from the same state, on the Hairer–Vilmart heavy top
+// (diagonal J), the skew top of test_problems.hpp (non-diagonal J, z0 and k off the axes) and a free body;
+// the final R, Ω and the internal momentum must match to the last bit.
 #include "test_problems.hpp"
 
-#include <lgi/integrators/rkmk.hpp>
 #include <lgi/integrators/splitting.hpp>
 #include <lgi/problems/free_body.hpp>
 #include <lgi/problems/heavy_top.hpp>
@@ -64,57 +63,6 @@ TEST(Dispatch, SplittingStepsEqualTheBaselineBitForBit) {
   every_case<SplitDmv4>("split_dmv4");
   every_case<SplitDmv10>("split_dmv10");
   every_case<SplitAxes>("split_axes");
-}
-
-// The RKMK methods' step, trial step and dense output (integrators/rkmk.hpp): through the dispatched copy and the
-// baseline one, from the same states, to the last bit — fixed steps, then a trial step from the end state with its
-// error norm and its dense output (whose extra stages are computed by the copy under test) at θ = 0.37.
-template <class S, class P>
-void same_rkmk_bits(const char* name, const P& problem, const State<double>& x0, double h) {
-  StepperOptions options;
-  if constexpr (S::embedded) options.rtol = options.atol = 1e-9;
-  S a(problem, options), b(problem, options);
-  auto ya = a.to_internal(x0, 0.0);
-  auto yb = b.to_internal(x0, 0.0);
-  for (int n = 0; n < 1000; ++n) {
-    ASSERT_EQ(a.step(ya, n * h, h), StepStatus::ok) << name;
-    ASSERT_EQ(b.step_inline(yb, n * h, h), StepStatus::ok) << name;
-  }
-  const State<double> xa = a.to_state(ya), xb = b.to_state(yb);
-  EXPECT_EQ(std::memcmp(xa.R.data(), xb.R.data(), sizeof(double) * 9), 0) << name;
-  EXPECT_EQ(std::memcmp(xa.Omega.data(), xb.Omega.data(), sizeof(double) * 3), 0) << name;
-  EXPECT_GT((xa.Omega - x0.Omega).norm(), 1e-3) << name;
-  if constexpr (S::embedded) {
-    typename S::Internal za, zb;
-    typename S::Dense da, db;
-    double ea = 0, eb = 1;
-    ASSERT_EQ(a.attempt(ya, 0.0, 4 * h, za, ea, da), StepStatus::ok) << name;
-    ASSERT_EQ(b.attempt_inline(yb, 0.0, 4 * h, zb, eb, db), StepStatus::ok) << name;
-    EXPECT_EQ(std::memcmp(za.R.data(), zb.R.data(), sizeof(double) * 9), 0) << name;
-    EXPECT_EQ(std::memcmp(za.Omega.data(), zb.Omega.data(), sizeof(double) * 3), 0) << name;
-    EXPECT_EQ(std::memcmp(&ea, &eb, sizeof ea), 0) << name << ": error norms " << ea << ", " << eb;
-    const auto wa = a.dense_output(da, 0.37), wb = b.dense_inline(db, 0.37);
-    EXPECT_EQ(std::memcmp(wa.R.data(), wb.R.data(), sizeof(double) * 9), 0) << name;
-    EXPECT_EQ(std::memcmp(wa.Omega.data(), wb.Omega.data(), sizeof(double) * 3), 0) << name;
-  }
-}
-
-template <template <class> class M>
-void every_rkmk_case(const char* name) {
-  HeavyTop<double> hv = HeavyTop<double>::hairer_vilmart();
-  const State<double> x_hv{Mat3<double>::Identity(), hv.inertia.inverse() * Vec3<double>(1.8, 0.4, -0.9)};
-  same_rkmk_bits<M<HeavyTop<double>>>(name, hv, x_hv, 0.01);
-  same_rkmk_bits<M<HeavyTop<double>>>(name, test::skew_heavy_top(), test::skew_initial_state(), 0.01);  // principal axes
-  const FreeBody<double> body{test::skew_heavy_top().inertia};
-  same_rkmk_bits<M<FreeBody<double>>>(name, body, test::skew_initial_state(), 0.01);
-}
-
-TEST(Dispatch, RkmkStepsEqualTheBaselineBitForBit) {
-  every_rkmk_case<Rkmk4>("rkmk4");
-  every_rkmk_case<Rkmk4Cayley>("rkmk4_cayley");
-  every_rkmk_case<RkmkDp8>("rkmk_dp8");
-  every_rkmk_case<RkmkVern9>("rkmk_vern9");
-  every_rkmk_case<RkmkVern9Cayley>("rkmk_vern9_cayley");
 }
 
 // Negative control: the same steps compiled with FMA contraction (dispatch_fma_control.cpp, a program of its own)
