@@ -6,8 +6,9 @@
 // orthogonality_error, the problem's invariants) — come as the runner's doubles through a RowSink, the numbers
 // `lgi run` prints with 17 significant digits: each equals the command's CSV to the last digit. The scene's own
 // "output.columns" (quaternion, Euler angles, …) are computed from those rows by the command's mapper
-// (apps/output_columns.hpp), and the quaternion always. Returned as a dict of numpy arrays and the summary; errors are returned, not raised (the
-// package raises them): "error" holds the command's one-line message and "exit_status" its exit status.
+// (apps/output_columns.hpp), and the quaternion always. Returned as a dict of numpy arrays and the summary; errors
+// are returned, not raised (the package raises them): "error" holds the command's one-line message and
+// "exit_status" its exit status.
 //
 // view(...): the page of `lgi view`. Batch: many bodies by the batched kernels (core/batch.hpp).
 // load_plugin(path): a plugin's problem types (this module is loaded RTLD_GLOBAL so that the plugin finds lgi's
