@@ -267,18 +267,28 @@ Mat3<T> left_jacobian(const Vec3<T>& w) {
 ///   = v + ½ u×v + (1/12) u×(u×v) − (1/720) ad_u⁴ v + (1/30240) ad_u⁶ v − (1/1209600) ad_u⁸ v.
 /// ~~~
 /// An RKMK method of order p needs K = p − 2 (Hairer–Lubich–Wanner, Theorem IV.8.5; Munthe-Kaas,
-/// Appl. Numer. Math. 29 (1999) 115);
-/// the truncated series is a polynomial: no trigonometric functions, exact for Jets.
+/// Appl. Numer. Math. 29 (1999) 115); integrators/rkmk.hpp keeps K = p for an embedded pair (its error estimate);
+/// the truncated series is a polynomial: no trigonometric functions, exact for Jets. Its coefficients are
+/// doubles for double-valued scalars (double, Jets of double) and B_k/k! formed in T otherwise, so that a wider
+/// scalar (long double, binary128, cpp_bin_float) carries no double rounding in them.
 template <int K, class T>
 Vec3<T> right_jacobian_inverse_series(const Vec3<T>& u, const Vec3<T>& v) {
   static_assert(K >= 0 && K <= 8, "right_jacobian_inverse_series: K in [0, 8]");
   Vec3<T> r = v;
   if constexpr (K >= 1) {
-    static constexpr double coeff[] = {0, 0.5, 1.0 / 12, 0, -1.0 / 720, 0, 1.0 / 30240, 0, -1.0 / 1209600};
+    // B_k/k! = numerator[k] / denominator[k]
+    static constexpr int numerator[] = {0, 1, 1, 0, -1, 0, 1, 0, -1};
+    static constexpr int denominator[] = {1, 2, 12, 1, 720, 1, 30240, 1, 1209600};
+    using Value = std::remove_cvref_t<decltype(value_of(std::declval<const T&>()))>;
+    constexpr bool double_valued = std::is_same_v<Value, double>;
     Vec3<T> w = v;
     for (int k = 1; k <= K; ++k) {
       w = u.cross(w);
-      if (coeff[k] != 0) r += T(coeff[k]) * w;
+      if (numerator[k] == 0) continue;
+      if constexpr (double_valued)
+        r += T(static_cast<double>(numerator[k]) / denominator[k]) * w;
+      else
+        r += (T(numerator[k]) / T(denominator[k])) * w;
     }
   }
   return r;

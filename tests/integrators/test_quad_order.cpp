@@ -1,6 +1,7 @@
-// Observed orders in the asymptotic regime, beyond double: the two RKMK methods whose h^(p+1) error term
+// Observed orders in the asymptotic regime, beyond double: the RKMK methods whose h^(p+1) error term
 // outweighs the h^p term down to the round-off floor of double and long double (tests/integrators/test_rkmk_family.cpp:
-// rkmk_vern9_cayley 9.46 on the skew top and 10.0 on the GNI body, rkmk_dp8_cayley 8.23 on the GNI body) run in
+// rkmk_vern9_cayley 9.46 on the skew top and 10.0 on the GNI body, rkmk_dp8_cayley 8.23 on the GNI body, rkmk_vern9
+// above 9 with its series kept to ad⁸) run in
 // binary128 (boost::multiprecision::float128) or, where even that is too shallow, in 50 digits (Boost's
 // cpp_bin_float), with coefficients parsed from the source's decimal text to that precision
 // (tableaus::verner9_in<C>, dop853_in<C>), against an independent reference in the same precision
@@ -17,6 +18,9 @@
 //                                                  (e/h⁹ twice its limit at h = 0.024, 15 % above it at 0.006),
 //                                                  and binary128 runs out (reference 8.3e-32) while the local
 //                                                  slope is still 9.2
+//   rkmk_vern9, skew heavy top, binary128:         9.014 over errors 6.2e-21 … 8.5e-29 (local slopes 9.03 → 9.00)
+//   rkmk_vern9, GNI free body, binary128:          9.083 over errors 2.5e-21 … 3.0e-29 (local slopes 9.21 → 9.02)
+//   rkmk_vern9, driven damped top, binary128:      9.006 over errors 2.0e-21 … 2.8e-29 (local slopes 9.02 → 9.00)
 //   rkmk_dp8_cayley, GNI free body, binary128:     8.002 over 3.5e-17 … 1.1e-25
 //   rkmk_dp8_cayley, skew heavy top, binary128:    8.012 over 5.1e-17 … 1.5e-25
 //
@@ -63,6 +67,8 @@ template <class P>
 using Dop853CayleyQ = Rkmk<tableaus::dop853_in<__float128>, P, -1, LieChart::cayley>;
 template <class P>
 using Vern9CayleyWide = Rkmk<tableaus::verner9_in<DoubleQuad>, P, -1, LieChart::cayley>;
+template <class P>
+using Vern9Q = Rkmk<tableaus::verner9_in<__float128>, P>;
 
 // The control: Verner's coefficients as the double literals (tableaus::verner9), run in binary128.
 inline constexpr auto verner9_double_in_quad = test::quad::with_coefficients<__float128>(tableaus::verner9);
@@ -251,6 +257,39 @@ TEST(QuadOrderFindings, Vern9CayleyOnTheGniFreeBodyInBinary128) {
   EXPECT_LT(fit.order, 9.8);
   for (std::size_t i = 1; i < fit.error.size(); ++i)  // e/h⁹ falls throughout: the excess over 9 is an h¹⁰ term
     EXPECT_LT(fit.error[i] / std::pow(fit.h[i], 9), fit.error[i - 1] / std::pow(fit.h[i - 1], 9));
+}
+
+// ---- Verner 9(8) in the exponential chart ---------------------------------------------------------------
+
+// With the dexp⁻¹ series to ad⁸ (integrators/rkmk.hpp), in binary128 over the skew top's window. Its Bernoulli
+// coefficients are formed in the scalar (core/so3.hpp): as doubles they put a floor of ≈ 1e-24 under these runs,
+// below which the errors fell like h³ (a fit of 4.6 over this window).
+
+TEST(QuadOrder, Vern9OnTheSkewHeavyTop) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Fit fit = test::quad::observed_order<Vern9Q>(test::skew_heavy_top(), test::skew_initial_state(), 2.0,
+                                                     skew_reference(), 1e-20, 1e-28, 12, 9,
+                                                     "rkmk_vern9 skew top (binary128)");
+  std::printf("(%.2f s)\n", seconds_since(t0));
+  EXPECT_NEAR(fit.order, 9.0, 0.2);
+}
+
+TEST(QuadOrder, Vern9OnTheGniFreeBody) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Fit fit = test::quad::observed_order<Vern9Q>(gni_body(), gni_state(), 10.0, gni_reference(), 1e-20, 1e-28,
+                                                     12, 9, "rkmk_vern9 GNI body (binary128)");
+  std::printf("(%.2f s)\n", seconds_since(t0));
+  EXPECT_NEAR(fit.order, 9.0, 0.2);
+}
+
+TEST(QuadOrder, Vern9OnTheDrivenDampedTop) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto p = test::driven_damped_skew_top();
+  const Reference<Q> ref = test::quad::make_reference<Q>(p, test::skew_initial_state(), 2.0, 20);
+  const Fit fit = test::quad::observed_order<Vern9Q>(p, test::skew_initial_state(), 2.0, ref, 1e-20, 1e-28, 12, 9,
+                                                     "rkmk_vern9 driven damped top (binary128)");
+  std::printf("(%.2f s)\n", seconds_since(t0));
+  EXPECT_NEAR(fit.order, 9.0, 0.2);
 }
 
 // ---- DOP853 in Cayley coordinates -------------------------------------------------------------------------
