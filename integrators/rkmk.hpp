@@ -14,20 +14,22 @@
 ///
 /// ~~~{.unparsed}
 ///   stage i:  u_i = h Σ_j a_ij U_j,   W_i = Ω_n + h Σ_j a_ij V_j,
-///             U_i = J_r⁻¹(u_i) W_i (series truncated after ad^(p−2)),   V_i = Ω'(t_n + c_i h, R_n exp(u_i), W_i)
+///             U_i = J_r⁻¹(u_i) W_i (series truncated after ad^K),   V_i = Ω'(t_n + c_i h, R_n exp(u_i), W_i)
 ///   update:   R_{n+1} = R_n exp(h Σ b_i U_i),   Ω_{n+1} = Ω_n + h Σ b_i V_i.
 /// ~~~
 ///
-/// The truncation after the ad^(p−2) term keeps the order p of the tableau (HLW Theorem IV.8.5: classical order
+/// Truncation after the ad^(p−2) term keeps the order p of the tableau (HLW Theorem IV.8.5: classical order
 /// p and truncation index q ≥ p − 2 in (IV.8.9) give order p — checked against the book's text, whose proof is
 /// the argument below; HLW credit Algorithm IV.8.3 to Munthe-Kaas (1999), Appl. Numer. Math. 29 (1999) 115,
 /// whose own theorem numbers were not checked): along the exact flow u = tΩ + O(t²), so ad_u^k Ω = O(t^(k+1))
 /// and the dropped terms change a step by O(h^(p+1)). It makes the stage map a polynomial. Since B_k = 0 for
-/// odd k ≥ 3, K = p − 2 is lowered to the last non-zero term (DP5: K = 2; Verner 9(8): K = 7 (lowered to 6), the
-/// same terms as DOP853's K = 6). One non-zero term short, the order falls to the dropped power + 1
-/// (tests/integrators/test_rkmk_family.cpp, RkmkSeriesTruncation, each within 0.2: RKMK3 with K = 0 order 2; RKMK4
-/// and DP5 with K = 1 order 3; DOP853 and Verner 9(8) with K = 4 order 7), and Verner 9(8) keeps its order 9 with
-/// K = 6 (the ad⁸ term, B₈ ≠ 0, is not needed).
+/// odd k ≥ 3, K is lowered to the last non-zero term. One non-zero term short, the order falls to the dropped
+/// power + 1 (tests/integrators/test_rkmk_family.cpp, RkmkSeriesTruncation, each within 0.2: RKMK3 with K = 0
+/// order 2; RKMK4 and DP5 with K = 1 order 3; DOP853 and Verner 9(8) with K = 4 order 7).
+/// An embedded pair keeps K = p (DP5: K = 4; DOP853 and Verner 9(8): K = 8): the dropped terms are the same in
+/// the solution and in its embedded companion, so the error estimate cannot see them, and at K = p − 2 they are
+/// of the solution's own order — at large h|Ω| they dominate its error while the estimate stays small
+/// (docs/findings.md). With K = p they fall two orders below it. A fixed-step tableau keeps K = p − 2 (RKMK4: 2).
 /// Zero tableau entries are skipped at compile time, and so are trailing stages with b_i = 0 in fixed steps
 /// (Dormand–Prince's 7th stage); for a torque-free problem no stage attitude is formed at all, and for a
 /// torque that depends on R only through Γ = Rᵀa (ReducedAttitudeProblem: the heavy top) the stages
@@ -150,13 +152,15 @@ class Rkmk {
   static constexpr LieChart chart = Chart;  ///< the coordinate map of the step
 
  private:
-  /// K = p − 2, lowered to the last non-zero term: the Bernoulli numbers B_k vanish for odd k ≥ 3, so K = 3 is
-  /// K = 2 (DP5) and K = 7 would be K = 6 — without the lowering the loop would form an unused cross product.
+  /// K = p − 2 for a fixed-step tableau, K = p for an embedded pair (header), lowered to the last non-zero
+  /// term: the Bernoulli numbers B_k vanish for odd k ≥ 3, so K = 3 is K = 2 and K = 5 is K = 4 (DP5), K = 7 is
+  /// K = 6 — without the lowering the loop would form an unused cross product.
   static constexpr int series_degree = [] {
     if constexpr (SeriesDegree >= 0) {
       return SeriesDegree;
     } else {
-      const int K = Tableau.order > 2 ? Tableau.order - 2 : 0;
+      const int p = Tableau.order;
+      const int K = embedded ? p : (p > 2 ? p - 2 : 0);
       return K >= 3 && K % 2 == 1 ? K - 1 : K;
     }
   }();

@@ -162,9 +162,10 @@ double median_step(double tol) {
   return h[h.size() / 2];
 }
 
+// Returns the largest error/tol over t = 1 … 10 at each tol = 1e-4 … 1e-12.
 template <template <class> class Method>
-void steps_follow_the_order(const char* name, double max_ratio) {
-  std::vector<double> tols, steps, ratios, medians;
+std::vector<double> steps_follow_the_order(const char* name, double max_ratio, double max_spread = 10.0) {
+  std::vector<double> tols, steps, ratios, medians, each_ratio;
   double worst_ratio = 0;
   for (int e = 4; e <= 12; ++e) {
     const double tol = std::pow(10.0, -e);
@@ -177,6 +178,7 @@ void steps_follow_the_order(const char* name, double max_ratio) {
     steps.push_back(static_cast<double>(run.summary.accepted));
     medians.push_back(median_step<Method>(tol));
     if (e >= 6) ratios.push_back(run.max_error / tol);
+    each_ratio.push_back(run.max_error / tol);
     worst_ratio = std::max(worst_ratio, run.max_error / tol);
   }
   const double slope_all = test::fitted_order(tols, steps);
@@ -206,8 +208,9 @@ void steps_follow_the_order(const char* name, double max_ratio) {
               -1.0 / p_eff, spread, worst_ratio);
   EXPECT_NEAR(slope, -1.0 / k, 0.2 / k) << name;
   EXPECT_NEAR(slope_median, 1.0 / p_eff, 0.1 / p_eff) << name;
-  EXPECT_LT(spread, 10.0) << name;
+  EXPECT_LT(spread, max_spread) << name;
   EXPECT_LT(worst_ratio, max_ratio) << name;
+  return each_ratio;
 }
 
 TEST(Adaptive, Dp5StepsFollowItsOrder) { steps_follow_the_order<RkmkDp5>("rkmk_dp5", 60); }
@@ -216,7 +219,16 @@ TEST(Adaptive, Dp5CayleyStepsFollowItsOrder) { steps_follow_the_order<RkmkDp5Cay
 // The Cayley pair's global error over T = 10 is up to 13.0× tol (measured; the exponential chart's 2 … 7×): the
 // same finding as above with larger error constants. Guarded at 20 so that a regression shows.
 TEST(Adaptive, Dp8CayleyStepsFollowItsOrder) { steps_follow_the_order<RkmkDp8Cayley>("rkmk_dp8_cayley", 20); }
-TEST(Adaptive, Vern9StepsFollowItsOrder) { steps_follow_the_order<RkmkVern9>("rkmk_vern9", 10); }
+// Verner 9(8) in the exponential chart keeps its dexp⁻¹ series to ad⁸ (integrators/rkmk.hpp), a term the error
+// estimate cannot see. Cut at ad⁶, that term held the error at T near 1.0 … 3.0 tol from 1e-9 to 1e-12 (1.40, 2.05,
+// 2.46, 2.99); kept, it falls to 0.43 … 0.86 tol there, every tolerance's error below the cut series' (by 1.02 …
+// 7.0×). Its errors then fall faster than tol (the fixed-step order at these steps is 9.8 against the estimate's 9:
+// error/tol ∝ tol^−0.11, 4.5× over 1e-6 … 1e-12), and with 19 steps at 1e-6 (5.1 tol) the spread is 11.9: held
+// below 15 here, and the tight tolerances below 1.
+TEST(Adaptive, Vern9StepsFollowItsOrder) {
+  const std::vector<double> ratio = steps_follow_the_order<RkmkVern9>("rkmk_vern9", 10, 15);
+  for (int e = 9; e <= 12; ++e) EXPECT_LT(ratio[static_cast<std::size_t>(e - 4)], 1.0) << "tol 1e-" << e;
+}
 TEST(Adaptive, Vern9CayleyStepsFollowItsOrder) { steps_follow_the_order<RkmkVern9Cayley>("rkmk_vern9_cayley", 10); }
 
 // Dense output on the group has the continuous extension's order q: one step of size h from the exact

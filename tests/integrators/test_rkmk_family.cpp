@@ -272,15 +272,23 @@ TEST(RkmkFamilyFindings, Vern9CayleyGniFreeBodyInLongDouble) {
 }
 
 // The methods whose order shows only beyond double are measured in tests/integrators/test_quad_order.cpp (QuadOrder, built
-// where GCC's __float128 and libquadmath are available): rkmk_vern9_cayley on both cases, rkmk_dp8_cayley on the
-// free body.
+// where GCC's __float128 and libquadmath are available): Verner 9(8) in both charts on both cases, rkmk_dp8_cayley on
+// the free body. In the exponential chart Verner 9(8) keeps its dexp⁻¹ series to ad⁸ (integrators/rkmk.hpp: an
+// embedded pair keeps K = p): on the skew top its fit over the double window lies above 9 (9.39, its h¹⁰ terms,
+// as in Cayley coordinates), held between 9 − 0.2 and 9.7 here; on the GNI body its errors reach the long-double
+// reference's floor within the window (1e-15 at h = 0.14). Its order is measured in binary128 (QuadOrder.Vern9On*).
 TYPED_TEST(RkmkFamily, ObservedOrderOnTheSkewHeavyTop) {
   using S = typename TypeParam::template type<HeavyTop<double>>;
   if constexpr (S::chart == LieChart::cayley && S::traits.order == 9)
     GTEST_SKIP() << "measured in binary128: QuadOrder.Vern9CayleyOnTheSkewHeavyTop (9.002)";
   const double p = observed_order<TypeParam::template type>(skew_top(), test::skew_initial_state(), 2.0,
                                                             skew_reference(), "skew top");
-  EXPECT_NEAR(p, S::traits.order, 0.2);
+  if constexpr (S::chart == LieChart::exp && S::traits.order == 9) {
+    EXPECT_GE(p, 9.0 - 0.2);
+    EXPECT_LE(p, 9.7);
+  } else {
+    EXPECT_NEAR(p, S::traits.order, 0.2);
+  }
 }
 
 TYPED_TEST(RkmkFamily, ObservedOrderOnTheFreeBody) {
@@ -289,6 +297,8 @@ TYPED_TEST(RkmkFamily, ObservedOrderOnTheFreeBody) {
     GTEST_SKIP() << "measured in 50 digits: QuadOrder.Vern9CayleyOnTheGniFreeBody (9.096)";
   if constexpr (S::chart == LieChart::cayley && S::traits.order == 8)
     GTEST_SKIP() << "measured in binary128: QuadOrder.Dop853CayleyOnTheGniFreeBody (8.002)";
+  if constexpr (S::chart == LieChart::exp && S::traits.order == 9)
+    GTEST_SKIP() << "measured in binary128: QuadOrder.Vern9OnTheGniFreeBody (9.083)";
   const double p = observed_order<TypeParam::template type>(gni_body(), gni_state(), 10.0, gni_reference(), "free body");
   EXPECT_NEAR(p, S::traits.order, 0.2);
 }
@@ -426,7 +436,8 @@ TEST(RkmkFamilyControl, TheDriftMeasureSeesNoDriftInTheLgvi) {
 
 // ---- the truncation of the J_r⁻¹ series -----------------------------------------------------------
 //
-// An RKMK method of order p keeps the ad_u^k terms of J_r⁻¹(u)W up to k = p − 2 (rkmk.hpp). Along a step
+// An RKMK method of order p needs the ad_u^k terms of J_r⁻¹(u)W up to k = p − 2 (rkmk.hpp; an embedded pair
+// keeps them to k = p, for its error estimate). Along a step
 // u = O(h) and ad_u W = O(h²), so dropping the term k changes a step by O(h^(k+2)) and the global error by
 // O(h^(k+1)): the truncation must match the order. Measured on the skew top: with the series cut one non-zero
 // term short (K lowered to the previous non-zero Bernoulli term), the observed order falls to k + 1 — which

@@ -75,7 +75,13 @@ TEST(StateTorqueOrder, Rkmk) {
   expect_order<Rkmk4Rule38>();
   expect_order<RkmkDp5>();
   expect_order<RkmkDp8>();
-  expect_order<RkmkVern9>();
+  // Verner 9(8) in the exponential chart keeps its series to ad⁸ (integrators/rkmk.hpp) and then, as in Cayley
+  // coordinates below, shows its h¹⁰ terms in double: its order 9 on this problem is measured in binary128
+  // (QuadOrder.Vern9OnTheDrivenDampedTop); here the slope is held between 9 − 0.2 and 10.2.
+  const double p = test::observed_order<RkmkVern9>(driven_damped_skew_top(), test::skew_initial_state(), 2.0,
+                                                   driven_reference(), "driven");
+  EXPECT_GE(p, 9.0 - 0.2);
+  EXPECT_LE(p, 10.0 + 0.2);
 }
 
 // Verner 9(8) in Cayley coordinates shows its h¹⁰ terms everywhere above the round-off of long double (integrators/
