@@ -268,9 +268,14 @@ Mat3<T> left_jacobian(const Vec3<T>& w) {
 /// ~~~
 /// An RKMK method of order p needs K = p − 2 (Hairer–Lubich–Wanner, Theorem IV.8.5; Munthe-Kaas,
 /// Appl. Numer. Math. 29 (1999) 115); integrators/rkmk.hpp keeps K = p for an embedded pair (its error estimate);
-/// the truncated series is a polynomial: no trigonometric functions, exact for Jets. Its coefficients are
-/// doubles for double-valued scalars (double, Jets of double) and B_k/k! formed in T otherwise, so that a wider
-/// scalar (long double, binary128, cpp_bin_float) carries no double rounding in them.
+/// the truncated series is a polynomial: no trigonometric functions, exact for Jets. Since u · (u × v) = 0,
+/// ad_u³ v = −θ² ad_u v and ad_u^(2j+2) v = (−θ²)^j ad_u² v (θ² = |u|²), so it is evaluated with two cross products
+/// and a polynomial in θ² (Horner) instead of K chained cross products:
+/// ~~~{.unparsed}
+///   = v + ½ u×v + c(θ²) u×(u×v),   c(θ²) = 1/12 + θ²/720 + θ⁴/30240 + θ⁶/1209600   (terms up to k = K).
+/// ~~~
+/// Its coefficients are doubles for double-valued scalars (double, Jets of double) and B_k/k! formed in T
+/// otherwise, so that a wider scalar (long double, binary128, cpp_bin_float) carries no double rounding in them.
 template <int K, class T>
 Vec3<T> right_jacobian_inverse_series(const Vec3<T>& u, const Vec3<T>& v) {
   static_assert(K >= 0 && K <= 8, "right_jacobian_inverse_series: K in [0, 8]");
@@ -281,14 +286,23 @@ Vec3<T> right_jacobian_inverse_series(const Vec3<T>& u, const Vec3<T>& v) {
     static constexpr int denominator[] = {1, 2, 12, 1, 720, 1, 30240, 1, 1209600};
     using Value = std::remove_cvref_t<decltype(value_of(std::declval<const T&>()))>;
     constexpr bool double_valued = std::is_same_v<Value, double>;
-    Vec3<T> w = v;
-    for (int k = 1; k <= K; ++k) {
-      w = u.cross(w);
-      if (numerator[k] == 0) continue;
+    const auto coeff = [](int k) {
       if constexpr (double_valued)
-        r += T(static_cast<double>(numerator[k]) / denominator[k]) * w;
+        return T(static_cast<double>(numerator[k]) / denominator[k]);
       else
-        r += (T(numerator[k]) / T(denominator[k])) * w;
+        return T(T(numerator[k]) / T(denominator[k]));
+    };
+    const Vec3<T> w1 = u.cross(v);
+    r += coeff(1) * w1;
+    if constexpr (K >= 2) {
+      constexpr int top = K % 2 == 1 ? K - 1 : K;  // the last non-zero term (B_k = 0 for odd k ≥ 3)
+      const Vec3<T> w2 = u.cross(w1);
+      T c = coeff(top);
+      if constexpr (top >= 4) {
+        const T minus_theta2 = -u.squaredNorm();
+        for (int k = top - 2; k >= 2; k -= 2) c = c * minus_theta2 + coeff(k);
+      }
+      r += c * w2;
     }
   }
   return r;
