@@ -154,7 +154,7 @@ class Rkmk {
  private:
   /// K = p − 2 for a fixed-step tableau, K = p for an embedded pair (header), lowered to the last non-zero
   /// term: the Bernoulli numbers B_k vanish for odd k ≥ 3, so K = 3 is K = 2 and K = 5 is K = 4 (DP5), K = 7 is
-  /// K = 6 — without the lowering the loop would form an unused cross product.
+  /// K = 6 (the same terms; the name says which are kept).
   static constexpr int series_degree = [] {
     if constexpr (SeriesDegree >= 0) {
       return SeriesDegree;
