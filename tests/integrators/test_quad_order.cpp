@@ -99,6 +99,16 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// test::quad::observed_order over 12 points at most, with the time it took printed.
+template <template <class> class Method, class T, RigidBodyProblem P>
+Fit timed_order(const P& problem, const State<double>& x0, double t_end, const Reference<T>& ref, double e_start,
+                double e_stop, int declared, const char* what) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Fit fit = test::quad::observed_order<Method>(problem, x0, t_end, ref, e_start, e_stop, 12, declared, what);
+  std::printf("(%.2f s)\n", seconds_since(t0));
+  return fit;
+}
+
 // ---- the coefficients -------------------------------------------------------------------------------------
 
 // Largest residual |Σ b_i Φ_i(τ) − 1/γ(τ)| over the trees of each order (rk_order_conditions.hpp's trees):
@@ -266,29 +276,22 @@ TEST(QuadOrderFindings, Vern9CayleyOnTheGniFreeBodyInBinary128) {
 // below which the errors fell like h³ (a fit of 4.6 over this window).
 
 TEST(QuadOrder, Vern9OnTheSkewHeavyTop) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const Fit fit = test::quad::observed_order<Vern9Q>(test::skew_heavy_top(), test::skew_initial_state(), 2.0,
-                                                     skew_reference(), 1e-20, 1e-28, 12, 9,
-                                                     "rkmk_vern9 skew top (binary128)");
-  std::printf("(%.2f s)\n", seconds_since(t0));
+  const Fit fit = timed_order<Vern9Q>(test::skew_heavy_top(), test::skew_initial_state(), 2.0, skew_reference(), 1e-20,
+                                      1e-28, 9, "rkmk_vern9 skew top (binary128)");
   EXPECT_NEAR(fit.order, 9.0, 0.2);
 }
 
 TEST(QuadOrder, Vern9OnTheGniFreeBody) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const Fit fit = test::quad::observed_order<Vern9Q>(gni_body(), gni_state(), 10.0, gni_reference(), 1e-20, 1e-28,
-                                                     12, 9, "rkmk_vern9 GNI body (binary128)");
-  std::printf("(%.2f s)\n", seconds_since(t0));
+  const Fit fit = timed_order<Vern9Q>(gni_body(), gni_state(), 10.0, gni_reference(), 1e-20, 1e-28, 9,
+                                      "rkmk_vern9 GNI body (binary128)");
   EXPECT_NEAR(fit.order, 9.0, 0.2);
 }
 
 TEST(QuadOrder, Vern9OnTheDrivenDampedTop) {
-  const auto t0 = std::chrono::steady_clock::now();
   const auto p = test::driven_damped_skew_top();
   const Reference<Q> ref = test::quad::make_reference<Q>(p, test::skew_initial_state(), 2.0, 20);
-  const Fit fit = test::quad::observed_order<Vern9Q>(p, test::skew_initial_state(), 2.0, ref, 1e-20, 1e-28, 12, 9,
-                                                     "rkmk_vern9 driven damped top (binary128)");
-  std::printf("(%.2f s)\n", seconds_since(t0));
+  const Fit fit = timed_order<Vern9Q>(p, test::skew_initial_state(), 2.0, ref, 1e-20, 1e-28, 9,
+                                      "rkmk_vern9 driven damped top (binary128)");
   EXPECT_NEAR(fit.order, 9.0, 0.2);
 }
 
@@ -297,19 +300,14 @@ TEST(QuadOrder, Vern9OnTheDrivenDampedTop) {
 // Errors 1e-16 … 1e-25 (DOP853's 28–30-digit coefficients put a floor near 1e-28 under the GNI body's errors:
 // at n = 5012 the error is 5.3e-28 against 4.4e-28 from e/h⁸; the window stops 1000× above it).
 TEST(QuadOrder, Dop853CayleyOnTheGniFreeBody) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const Fit fit = test::quad::observed_order<Dop853CayleyQ>(gni_body(), gni_state(), 10.0, gni_reference(), 1e-16,
-                                                            1e-25, 12, 8, "rkmk_dp8_cayley GNI body (binary128)");
-  std::printf("(%.2f s)\n", seconds_since(t0));
+  const Fit fit = timed_order<Dop853CayleyQ>(gni_body(), gni_state(), 10.0, gni_reference(), 1e-16, 1e-25, 8,
+                                             "rkmk_dp8_cayley GNI body (binary128)");
   EXPECT_NEAR(fit.order, 8.0, 0.2);
 }
 
 TEST(QuadOrder, Dop853CayleyOnTheSkewHeavyTop) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const Fit fit = test::quad::observed_order<Dop853CayleyQ>(test::skew_heavy_top(), test::skew_initial_state(), 2.0,
-                                                            skew_reference(), 1e-16, 1e-25, 12, 8,
-                                                            "rkmk_dp8_cayley skew top (binary128)");
-  std::printf("(%.2f s)\n", seconds_since(t0));
+  const Fit fit = timed_order<Dop853CayleyQ>(test::skew_heavy_top(), test::skew_initial_state(), 2.0, skew_reference(),
+                                             1e-16, 1e-25, 8, "rkmk_dp8_cayley skew top (binary128)");
   EXPECT_NEAR(fit.order, 8.0, 0.2);
 }
 
