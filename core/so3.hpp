@@ -26,10 +26,14 @@
 /// Hairer, Lubich, Wanner, Geometric Numerical Integration, 2nd ed. (2006), Lemma III.4.2 (dexp⁻¹ as a
 /// Bernoulli series), §IV.8.3 Lemma 8.7 (Cayley map).
 ///
-/// exp's coefficients A = sin θ/θ, B = 2 (sin(θ/2)/θ)²: θ² < 1e-2, Taylor polynomials in θ²; 1e-2 ≤ θ² and
-/// θ ≤ π, with core/trig.hpp's polynomial sin (deterministic + − ×, so that a vector kernel computes the same
-/// bits: integrators/batch_rkmk.hpp) for double and Jets of double; θ > π, and other scalars (long double
-/// references, float), with libm's sin. The Jacobians, log and tan below use libm.
+/// exp's coefficients A = sin θ/θ, B = (1 − cos θ)/θ²: θ² < 1e-2, Taylor polynomials in θ²; for double and Jets
+/// of double, 1e-2 ≤ θ² < 2, B by its Taylor polynomial to θ¹⁸ and A = √(B (2 − θ² B)), and θ² ≥ 2, θ ≤ π,
+/// A = sin θ/θ, B = 2 (sin(θ/2)/θ)² with core/trig.hpp's polynomial sin (deterministic + − × and √, so that a
+/// vector kernel computes the same bits: integrators/batch_rkmk.hpp); θ > π, and other scalars (long double
+/// references, float), the sine formulas with libm's sin. A = √(B (2 − θ² B)) makes Rodrigues' orthogonality
+/// factor 2B − A² − θ²B² (RᵀR = I + (2B − A² − θ²B²) hat(ω)²) the rounding of one square root, unbiased; A by its
+/// own series would leave a bias of ≈ −1e-17 θ² a call (docs/findings.md). The Jacobians, log and tan below use
+/// libm.
 ///
 /// Scalars. Every function is a template on T and correct for ceres::Jet: the coefficients A…D are
 /// Taylor polynomials in θ² (never sqrt or division at θ = 0) below a threshold where the polynomial is
@@ -96,10 +100,18 @@ template <class T>
 [[gnu::noinline]] Coefficients<T> exp_coefficients_trig(const T& theta2) {
   using std::sin;
   using std::sqrt;
+  constexpr bool double_valued = std::is_same_v<std::remove_cvref_t<decltype(value_of(theta2))>, double>;
+  // θ² ∈ [1e-2, 2): B's series, A from B (core/trig.hpp; double coefficients, so double-valued scalars only).
+  if constexpr (double_valued) {
+    if (value_of(theta2) < trig::exp_series_theta2) {
+      const T B = horner(theta2, trig::exp_series_B);
+      return {theta2, sqrt(B * (T(2) - theta2 * B)), B};
+    }
+  }
   const T theta = sqrt(theta2);
-  // θ ∈ [0.1, π]: core/trig.hpp's polynomial sin, for double and Jets of double (its coefficients are doubles:
+  // θ ∈ [√2, π]: core/trig.hpp's polynomial sin, for double and Jets of double (its coefficients are doubles:
   // long double and float keep their own libm sin).
-  if constexpr (std::is_same_v<std::remove_cvref_t<decltype(value_of(theta))>, double>) {
+  if constexpr (double_valued) {
     if (value_of(theta) <= trig::max_argument) {
       const T s = trig::sin_0_pi(theta / T(2)) / theta;  // no cancellation in 1 − cos θ = 2 sin²(θ/2)
       return {theta2, trig::sin_0_pi(theta) / theta, T(2) * s * s};
@@ -113,8 +125,9 @@ template <class T>
 }  // namespace detail
 
 /// A = sin θ/θ and B = (1 − cos θ)/θ² of w (θ = |w|), with θ² itself: Taylor polynomials in θ² below
-/// small_angle_theta2, the polynomial sin of core/trig.hpp up to θ = π for double-valued scalars, libm beyond.
-/// Finite for every finite w, accurate to a few ulps.
+/// small_angle_theta2; for double-valued scalars B's series with A = √(B (2 − θ² B)) below θ² = 2 and the
+/// polynomial sin of core/trig.hpp up to θ = π; libm beyond (and for other scalars). Finite for every finite w,
+/// accurate to a few ulps.
 template <class T>
 Coefficients<T> exp_coefficients(const Vec3<T>& w) {
   const T theta2 = w.squaredNorm();

@@ -5,8 +5,9 @@
 /// scalar sincos), so a kernel that steps many bodies at once in vector lanes (integrators/batch_rkmk.hpp)
 /// could not reproduce a single-body exp. Written here once as + − × on doubles, the same operations give the
 /// same bits in a scalar, a Jet's value part and a vector lane: core/so3.hpp's exp_coefficients uses sin_0_pi
-/// for rotation angles 0.1 ≤ θ ≤ π (A = sin θ/θ, B = 2 (sin(θ/2)/θ)², the formulas it used with libm), and the
-/// batch kernels evaluate the same kernels and reduction on their lane types.
+/// for rotation angles √2 ≤ θ ≤ π (A = sin θ/θ, B = 2 (sin(θ/2)/θ)², the formulas it used with libm) and the
+/// series exp_series_B below, and the batch kernels evaluate the same kernels, reduction and series on their lane
+/// types.
 ///
 /// ~~~{.unparsed}
 ///   sin_kernel(x, y) = sin(x + y) = x + x³ P(x²) + y (1 − x²/2),  cos_kernel(x, y) = 1 − x²/2 + x⁴ Q(x²) − x y
@@ -23,9 +24,10 @@
 /// ~~~
 ///
 /// Accuracy, checked against long double over 10⁶ + 1 evenly spaced points (tests/core/test_so3.cpp,
-/// TrigPolynomial*): sin_0_pi < 0.8 ulp and cos_0_pi < 0.9 ulp on [0, π]; exp's coefficients on θ ∈ [0.1, π]
+/// TrigPolynomial*): sin_0_pi < 0.8 ulp and cos_0_pi < 0.9 ulp on [0, π]; exp's coefficients on θ ∈ [√2, π]
 /// with this sin: A = sin θ/θ < 1.5 ulp, B = 2 (sin(θ/2)/θ)² < 3.4 ulp (B's formula squares, so doubles, the
-/// error of sin(θ/2)/θ). The measured figures, and glibc's for comparison: docs/findings.md.
+/// error of sin(θ/2)/θ); on [0.1, √2) by the series: A < 1.5 ulp, B < 0.9 ulp. The measured figures, and glibc's
+/// for comparison: docs/findings.md.
 ///
 /// Scalars: any T with T·double, T + double, double − T, T·T (double, ceres::Jet, the batch kernels' lane
 /// packs). Branches read the value part of a Jet. The coefficients are doubles, so the result is only
@@ -68,6 +70,16 @@ inline constexpr double exp_taylor_theta2 = 1e-2;
 inline constexpr double exp_taylor_A[6] = {1.0, -1.0 / 6, 1.0 / 120, -1.0 / 5040, 1.0 / 362880, -1.0 / 39916800};
 inline constexpr double exp_taylor_B[6] = {0.5,           -1.0 / 24,     1.0 / 720,
                                            -1.0 / 40320, 1.0 / 3628800, -1.0 / 479001600};
+///@}
+
+///@{
+/// exp's coefficient B = (1 − cos θ)/θ² = Σ_k (−1)^k θ^(2k)/(2k + 2)! for exp_taylor_theta2 ≤ θ² < exp_series_theta2
+/// (core/so3.hpp): its Taylor polynomial to θ¹⁸, whose remainder is < 2⁻⁵⁸ B there; A follows from B as
+/// √(B (2 − θ² B)) (= sin θ/θ, since B (2 − θ² B) = (1 − cos θ)(1 + cos θ)/θ²).
+inline constexpr double exp_series_theta2 = 2;
+inline constexpr double exp_series_B[10] = {
+    1.0 / 2,         -1.0 / 24,          1.0 / 720,           -1.0 / 40320,           1.0 / 3628800,
+    -1.0 / 479001600, 1.0 / 87178291200, -1.0 / 20922789888000, 1.0 / 6402373705728000, -1.0 / 2432902008176640000};
 ///@}
 
 namespace detail {

@@ -17,8 +17,8 @@
 /// single-body run y = to_internal(x, t0), y ← step(y, t0 + n h, h) of the same Rkmk4 stepper, for every body,
 /// whatever the kernel and the number of threads. The lane loops (integrators/batch_rkmk_kernel.hpp) repeat the
 /// single-body arithmetic operation for operation; the exponential's coefficients come from core/trig.hpp's
-/// polynomial sin (the same templates as so3::exp_coefficients) for rotation angles up to π, and from
-/// so3::exp_coefficients itself, lane by lane, beyond π. RKMK4 is explicit: a body fails only when its state
+/// series and polynomial sin (the same data and templates as so3::exp_coefficients) for rotation angles up to π,
+/// and from so3::exp_coefficients itself, lane by lane, beyond π. RKMK4 is explicit: a body fails only when its state
 /// becomes non-finite (status non_finite); it keeps its last good state and leaves its lane.
 /// tests/integrators/test_batch.cpp checks all of this.
 ///

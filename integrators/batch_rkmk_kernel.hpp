@@ -18,8 +18,9 @@
 /// ~~~
 ///
 /// exp_coefficients (core/so3.hpp) lane by lane: θ² = (w₀² + w₁²) + w₂²; θ² < 1e-2: the Taylor polynomials of
-/// core/trig.hpp; θ ≤ π: A = sin θ/θ, B = 2 (sin(θ/2)/θ)² with core/trig.hpp's polynomial sin, the same
-/// templates as the scalar code instantiated on the lane packs; θ > π or not finite: the lane calls back into
+/// core/trig.hpp; θ² < 2: B by core/trig.hpp's series exp_series_B, A = √(B (2 − θ² B)); θ ≤ π: A = sin θ/θ,
+/// B = 2 (sin(θ/2)/θ)² with core/trig.hpp's polynomial sin, the same templates as the scalar code instantiated on
+/// the lane packs; θ > π or not finite: the lane calls back into
 /// so3::exp_coefficients itself (Rkmk4Params::exp_coefficients, compiled in the caller's, baseline, translation
 /// unit), which uses libm. Each branch is evaluated only when a lane needs it, on benign inputs in the other
 /// lanes (no spurious overflow or invalid operation where floating-point traps are on).
@@ -123,8 +124,18 @@ template <int U>
   }
   V theta2;
   select(theta2, small, one, t2);
+  const I series = ~small & (t2 < trig::exp_series_theta2);
+  const int series_bits = bits(series);
+  if (series_bits != 0) {
+    V x;
+    select(x, series, t2, one);
+    const V Bs = horner_from_top(x, trig::exp_series_B);
+    select(A, series, V(sqrt(V(Bs * V(2.0 - x * Bs)))), A);
+    select(B, series, Bs, B);
+    if ((small_bits | series_bits) == all) return;
+  }
   const V theta = sqrt(theta2);
-  const I poly = ~small & (theta <= trig::max_argument);  // false for NaN
+  const I poly = ~(small | series) & (theta <= trig::max_argument);  // false for NaN
   if (bits(poly) != 0) {
     V x;
     select(x, poly, theta, one);
@@ -132,7 +143,7 @@ template <int U>
     select(A, poly, V(sin_0_pi(x) / x), A);
     select(B, poly, V(2.0 * s * s), B);
   }
-  const int rest = ~(small_bits | bits(poly)) & all;
+  const int rest = ~(small_bits | series_bits | bits(poly)) & all;
   if (rest != 0) [[unlikely]] {
     for (int l = 0; l < U * VW; ++l)
       if (rest >> l & 1) {

@@ -3,6 +3,8 @@
 // non-conservative torques for the energy balance.
 #pragma once
 
+#include "test_problems.hpp"
+
 #include <lgi/core/so3.hpp>
 #include <lgi/core/state.hpp>
 #include <lgi/problems/gyrostat.hpp>
@@ -26,7 +28,7 @@ inline Gyrostat<double> three_rotor_gyrostat() {
 }
 
 inline State<double> gyrostat_initial_state() {
-  return {so3::exp(Vec3<double>(0.3, -0.2, 0.5)), Vec3<double>(0.8, -0.5, 1.2)};
+  return {test::fixture_rotation(Vec3<double>(0.3, -0.2, 0.5)), Vec3<double>(0.8, -0.5, 1.2)};
 }
 
 // P = Ω·M_nc + Σ g_i ω_s,i, the power of the non-conservative torques (problems/gyrostat.hpp): dE/dt = P with

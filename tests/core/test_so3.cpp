@@ -418,6 +418,57 @@ TEST(TrigPolynomial, ExpCoefficientsWithinUlpsOnTenthToPi) {
   EXPECT_LE(b_max, 3.4);  // measured 3.366 (libm's sin: 3.366): the formula squares, and so doubles, s's error
 }
 
+// Below θ² = 2 the coefficients come from B's series, with A = √(B (2 − θ² B)): each within about an ulp and a half,
+// and Rodrigues' orthogonality factor 2B − A² − θ²B² (evaluated in long double from the rounded A and B, to ≈ 1e-19) is
+// the rounding of A alone, unbiased: its mean over the samples is far below its spread (≈ 1e-16) — a biased A (its
+// own series: ≈ −1e-17 θ² a call) would drift an attitude away from SO(3) linearly in the number of steps.
+TEST(TrigPolynomial, ExpCoefficientsBelowSqrtTwoWithinAnUlpAndAHalf) {
+  const int n = 1000000;
+  double a_max = 0, b_max = 0, a_at = 0, b_at = 0;
+  long double defect_sum = 0, defect_abs = 0;
+  const double lo = 0.1, hi = std::sqrt(trig::exp_series_theta2);
+  for (int i = 0; i < n; ++i) {
+    const double theta = lo + (hi - lo) * i / n;
+    if (theta * theta >= trig::exp_series_theta2) break;
+    const long double tl = theta;
+    const long double A = std::sin(tl) / tl, s2 = std::sin(tl / 2) / tl, B = 2 * s2 * s2;
+    const so3::Coefficients<double> k = so3::exp_coefficients(Vec3d(theta, 0, 0));
+    if (ulp_error(k.A, A) > a_max) a_max = ulp_error(k.A, A), a_at = theta;
+    if (ulp_error(k.B, B) > b_max) b_max = ulp_error(k.B, B), b_at = theta;
+    const long double a = k.A, b = k.B, t2 = k.theta2;
+    const long double defect = 2 * b - a * a - t2 * b * b;
+    defect_sum += defect;
+    defect_abs += std::fabs(defect);
+  }
+  const double mean = static_cast<double>(defect_sum / n), mean_abs = static_cast<double>(defect_abs / n);
+  std::printf("exp coefficients on [0.1, sqrt 2), series: A max %.3f ulp (at %.6f), B max %.3f ulp (at %.6f); "
+              "orthogonality factor 2B - A^2 - t^2 B^2: mean %.2e, mean |.| %.2e\n",
+              a_max, a_at, b_max, b_at, mean, mean_abs);
+  EXPECT_LE(a_max, 1.5);  // B's error (< 0.9 ulp) halved by the square root, plus its own rounding
+  EXPECT_LE(b_max, 0.9);
+  EXPECT_LE(std::fabs(mean), 0.01 * mean_abs);
+}
+
+// At θ² = 2 the coefficients switch from B's series to the polynomial sin: the two agree to round-off there, in value
+// and (Jets) in derivative, and exp stays continuous.
+TEST(TrigPolynomial, SwitchFromTheSeriesAtSqrtTwoIsContinuous) {
+  const double above = std::sqrt(trig::exp_series_theta2);  // θ² rounds to ≥ 2: the sine's side
+  double below = above;
+  while (below * below >= trig::exp_series_theta2) below = std::nextafter(below, 0.0);
+  const so3::Coefficients<double> kb = so3::exp_coefficients(Vec3d(below, 0, 0));
+  const so3::Coefficients<double> ka = so3::exp_coefficients(Vec3d(above, 0, 0));
+  ASSERT_LT(kb.theta2, trig::exp_series_theta2);
+  ASSERT_GE(ka.theta2, trig::exp_series_theta2);
+  EXPECT_NEAR(kb.A, ka.A, 4 * kEps * kb.A);
+  EXPECT_NEAR(kb.B, ka.B, 6 * kEps * kb.B);
+  for (const Vec3d& n : axes()) {
+    const Vec3<Jet3> wb = lift<Jet3>(Vec3d(below * n)), wa = lift<Jet3>(Vec3d(above * n));
+    const Mat3<Jet3> Rb = so3::exp(wb), Ra = so3::exp(wa);
+    EXPECT_LE(max_abs(values(Rb) - values(Ra)), 8 * kEps);
+    for (int k = 0; k < 3; ++k) EXPECT_LE(max_abs(derivative(Rb, k) - derivative(Ra, k)), 1e-13);
+  }
+}
+
 // The polynomial's coefficients are doubles: long double (the tests' references) keeps libm's sinl, to its own
 // precision (the polynomial would be off by ~1e-16 here).
 TEST(TrigPolynomial, LongDoubleKeepsItsOwnPrecision) {

@@ -564,7 +564,7 @@ static_assert(RigidBodyProblem<Satellite<double>> && !ReducedAttitudeProblem<Sat
 
 Satellite<double> tilted_satellite() {
   Satellite<double> s;
-  const Mat3<double> Q = so3::exp(Vec3<double>(0.2, 0.5, -0.3));
+  const Mat3<double> Q = test::fixture_rotation(Vec3<double>(0.2, 0.5, -0.3));
   s.inertia = Q * Vec3<double>(1.0, 1.6, 2.2).asDiagonal() * Q.transpose();
   s.inertia = (0.5 * (s.inertia + s.inertia.transpose())).eval();
   s.n = 1.3;
@@ -573,7 +573,9 @@ Satellite<double> tilted_satellite() {
   s.radial0.normalize();
   return s;
 }
-State<double> satellite_state() { return {so3::exp(Vec3<double>(-0.3, 0.6, 0.4)), Vec3<double>(0.5, 1.4, -0.9)}; }
+State<double> satellite_state() {
+  return {test::fixture_rotation(Vec3<double>(-0.3, 0.6, 0.4)), Vec3<double>(0.5, 1.4, -0.9)};
+}
 
 // The torque is −∂V/∂η of its potential: against the automatic torque of V(t, ·) and central differences.
 TEST(Satellite, TorqueIsMinusTheGradientOfItsPotential) {
