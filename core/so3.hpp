@@ -32,8 +32,7 @@
 /// vector kernel computes the same bits: integrators/batch_rkmk.hpp); θ > π, and other scalars (long double
 /// references, float), the sine formulas with libm's sin. A = √(B (2 − θ² B)) makes Rodrigues' orthogonality
 /// factor 2B − A² − θ²B² (RᵀR = I + (2B − A² − θ²B²) hat(ω)²) the rounding of one square root, unbiased; A by its
-/// own series would leave a bias of ≈ −1e-17 θ² a call (docs/findings.md). The Jacobians, log and tan below use
-/// libm.
+/// own series would bias it (docs/findings.md). The Jacobians, log and tan below use libm.
 ///
 /// Scalars. Every function is a template on T and correct for ceres::Jet: the coefficients A…D are
 /// Taylor polynomials in θ² (never sqrt or division at θ = 0) below a threshold where the polynomial is
