@@ -418,6 +418,17 @@ TEST(TrigPolynomial, ExpCoefficientsWithinUlpsOnTenthToPi) {
   EXPECT_LE(b_max, 3.4);  // measured 3.366 (libm's sin: 3.366): the formula squares, and so doubles, s's error
 }
 
+// exp of Jets at angles below and above a switch of exp_coefficients' branches, along every test axis: equal values
+// to 8ε and derivatives to 1e-13.
+void expect_exp_continuous_across(double below, double above) {
+  for (const Vec3d& n : axes()) {
+    const Vec3<Jet3> wb = lift<Jet3>(Vec3d(below * n)), wa = lift<Jet3>(Vec3d(above * n));
+    const Mat3<Jet3> Rb = so3::exp(wb), Ra = so3::exp(wa);
+    EXPECT_LE(max_abs(values(Rb) - values(Ra)), 8 * kEps);
+    for (int k = 0; k < 3; ++k) EXPECT_LE(max_abs(derivative(Rb, k) - derivative(Ra, k)), 1e-13);
+  }
+}
+
 // Below θ² = 2 the coefficients come from B's series, with A = √(B (2 − θ² B)): each within about an ulp and a half,
 // and Rodrigues' orthogonality factor 2B − A² − θ²B² (evaluated in long double from the rounded A and B, to ≈ 1e-19) is
 // the rounding of A alone, unbiased: its mean over the samples is far below its spread (≈ 1e-16) — a biased A (its
@@ -461,12 +472,7 @@ TEST(TrigPolynomial, SwitchFromTheSeriesAtSqrtTwoIsContinuous) {
   ASSERT_GE(ka.theta2, trig::exp_series_theta2);
   EXPECT_NEAR(kb.A, ka.A, 4 * kEps * kb.A);
   EXPECT_NEAR(kb.B, ka.B, 6 * kEps * kb.B);
-  for (const Vec3d& n : axes()) {
-    const Vec3<Jet3> wb = lift<Jet3>(Vec3d(below * n)), wa = lift<Jet3>(Vec3d(above * n));
-    const Mat3<Jet3> Rb = so3::exp(wb), Ra = so3::exp(wa);
-    EXPECT_LE(max_abs(values(Rb) - values(Ra)), 8 * kEps);
-    for (int k = 0; k < 3; ++k) EXPECT_LE(max_abs(derivative(Rb, k) - derivative(Ra, k)), 1e-13);
-  }
+  expect_exp_continuous_across(below, above);
 }
 
 // The polynomial's coefficients are doubles: long double (the tests' references) keeps libm's sinl, to its own
@@ -491,12 +497,7 @@ TEST(TrigPolynomial, SwitchToLibmAtPiIsContinuous) {
   const so3::Coefficients<double> ka = so3::exp_coefficients(Vec3d(above, 0, 0));
   EXPECT_NEAR(kb.A, ka.A, 4 * kEps * kb.B);  // A ≈ 4e-17 there: compare on the scale of B ≈ 0.2
   EXPECT_NEAR(kb.B, ka.B, 4 * kEps * kb.B);
-  for (const Vec3d& n : axes()) {
-    const Vec3<Jet3> wb = lift<Jet3>(Vec3d(below * n)), wa = lift<Jet3>(Vec3d(above * n));
-    const Mat3<Jet3> Rb = so3::exp(wb), Ra = so3::exp(wa);
-    EXPECT_LE(max_abs(values(Rb) - values(Ra)), 8 * kEps);
-    for (int k = 0; k < 3; ++k) EXPECT_LE(max_abs(derivative(Rb, k) - derivative(Ra, k)), 1e-13);
-  }
+  expect_exp_continuous_across(below, above);
 }
 
 // Jet derivative parts against finite differences in double, and exactly right at θ = 0.

@@ -246,8 +246,7 @@ TEST(Adaptive, Vern9CayleyStepsFollowItsOrder) { steps_follow_the_order<RkmkVern
 // double, so that the measurement adds nothing of its own (in double RᵀR − I carries ≈ ε an entry); the largest
 // excess measured is printed.
 inline double orthogonality_error_exact(const Mat3<double>& R) {
-  const Mat3<L> Rl = R.cast<L>();
-  return static_cast<double>((Rl.transpose() * Rl - Mat3<L>::Identity()).norm());
+  return static_cast<double>(so3::orthogonality_error(Mat3<L>(R.cast<L>())));
 }
 
 template <template <class> class Method, class T>
