@@ -17,6 +17,9 @@
 // Method (the fair rules):
 //   - every solver integrates the same body from the same initial state (wp_common.hpp); lgi's methods on
 //     SO(3) × R³, the peers on (quaternion, body momentum); same compiler and flags (this file's build);
+//   - fixed steps and adaptive steps on both sides: lgi's embedded pair rkmk_vern9_cayley also at fixed steps
+//     (`rkmk_vern9_cayley_fixed`), and the peers' eighth-order steppers likewise (`odeint_rkf78_fixed`,
+//     `gsl_rk8pd_fixed`, wp_peers.cpp), so that neither side's best kind of run is missing;
 //   - solver creation and reset (initial state, re-initialisation) are outside the timed region: a sample
 //     is [time of `inner` × (reset + run)] − [time of `inner` × reset], divided by `inner`, with `inner` chosen
 //     so that a batch lasts ≥ 2 ms, on the thread's CPU clock (CLOCK_THREAD_CPUTIME_ID);

@@ -206,6 +206,8 @@ std::vector<Method> lgi_methods(const Case& c) {
   add("rkmk_dp8_cayley", false, true);
   add("rkmk_vern9", false, true);
   add("rkmk_vern9_cayley", false, true);
+  add("rkmk_vern9_cayley");  // the same pair at fixed steps: no error estimate, the update's 15 stages
+  m.back().name += "_fixed";
   add("rkmk4", true);
   add("rkmk_dp8_cayley", true, true);
   if (c.kind == Kind::lagrange_top)

@@ -16,7 +16,11 @@
 // (copy of the initial state, GSL driver reset, SUNDIALS ReInit) is outside the timed run(); adaptive
 // peers get rtol = atol = tol and the same first step as lgi's adaptive methods (CVODE and ARKODE choose
 // their own), and land exactly on each output time (odeint integrate_times, GSL driver_apply, SUNDIALS
-// stop time at the last output time and interpolation before it).
+// stop time at the last output time and interpolation before it). Fixed-step peers (param = N steps over [0, T],
+// h = T/N) are the libraries' own fixed-step paths: odeint's plain steppers through integrate_times (steps of h,
+// the last one before each output time shortened to land on it; runge_kutta_fehlberg78's do_step forms no error
+// estimate) and GSL's stepper alone, gsl_odeiv2_step_apply (each output interval in ⌈length/h⌉ equal steps; it
+// still forms its error estimate, as GSL's steppers always do).
 #include "wp_common.hpp"
 
 #include <boost/numeric/odeint.hpp>
@@ -158,7 +162,7 @@ Sample sample_of(const Rhs& f, double t, const double* y) {
 // ---- Boost.Odeint --------------------------------------------------------------------------------------
 namespace odeint = boost::numeric::odeint;
 
-enum class OdeintKind { rkf78, dopri5, dopri5_dense, bulirsch_stoer, rk4 };
+enum class OdeintKind { rkf78, dopri5, dopri5_dense, bulirsch_stoer, rk4, rkf78_fixed };
 
 // The steppers are members, built with the trial (outside the timing) and passed by reference; reset()
 // clears their memory of the last run (dopri5's first-same-as-last stage, Bulirsch-Stoer's order and step;
@@ -205,6 +209,10 @@ class OdeintTrial final : public Trial {
         n = odeint::integrate_times(std::ref(rk4_), std::cref(f_), y, times0_.begin(), times0_.end(),
                                     times_.back() / param_, observe);
         break;
+      case OdeintKind::rkf78_fixed:
+        n = odeint::integrate_times(std::ref(rkf78_plain_), std::cref(f_), y, times0_.begin(), times0_.end(),
+                                    times_.back() / param_, observe);
+        break;
     }
     steps_ = static_cast<std::int64_t>(n);
     return samples_.size() == times0_.size() && std::isfinite(samples_.back().x.Omega.norm());
@@ -222,6 +230,7 @@ class OdeintTrial final : public Trial {
   Dopri5Dense dense_;
   odeint::bulirsch_stoer<Y> bs_;
   odeint::runge_kutta4<Y> rk4_;
+  odeint::runge_kutta_fehlberg78<Y> rkf78_plain_;
   std::int64_t steps_ = 0;
 };
 
@@ -231,7 +240,7 @@ Method odeint_method(const std::string& name, const std::string& description, in
   m.library = "boost_odeint";
   m.description = description;
   m.order = order;
-  m.adaptive = kind != OdeintKind::rk4;
+  m.adaptive = kind != OdeintKind::rk4 && kind != OdeintKind::rkf78_fixed;
   m.make = [kind](const Case& c, std::span<const double> times, double param) -> std::unique_ptr<Trial> {
     return std::make_unique<OdeintTrial>(c, times, param, kind);
   };
@@ -250,32 +259,57 @@ int gsl_jac(double /*t*/, const double y[], double* dfdy, double dfdt[], void* p
   return GSL_SUCCESS;
 }
 
+// param: the tolerance (adaptive: the driver, gsl_odeiv2_driver_apply) or the number of steps over [0, T] (fixed:
+// the stepper alone, gsl_odeiv2_step_apply — the driver's fixed-step call would consult its error control and
+// fail a step whose estimate exceeds the tolerance).
 class GslTrial final : public Trial {
  public:
-  GslTrial(const Case& c, std::span<const double> times, double tol, const gsl_odeiv2_step_type* type)
+  GslTrial(const Case& c, std::span<const double> times, double param, const gsl_odeiv2_step_type* type, bool fixed)
       : f_(c.body), y0_(initial_y(c)), times_(times.begin(), times.end()), h0_(initial_step(c)) {
     sys_ = {gsl_rhs, gsl_jac, 7, &f_};
-    driver_ = gsl_odeiv2_driver_alloc_y_new(&sys_, type, h0_, tol, tol);
-    if (driver_ == nullptr) throw std::runtime_error("gsl_odeiv2_driver_alloc_y_new failed");
+    if (fixed) {
+      h_ = times_.back() / param;
+      step_ = gsl_odeiv2_step_alloc(type, 7);
+      if (step_ == nullptr) throw std::runtime_error("gsl_odeiv2_step_alloc failed");
+    } else {
+      driver_ = gsl_odeiv2_driver_alloc_y_new(&sys_, type, h0_, param, param);
+      if (driver_ == nullptr) throw std::runtime_error("gsl_odeiv2_driver_alloc_y_new failed");
+    }
     samples_.reserve(times_.size() + 1);
   }
-  ~GslTrial() override { gsl_odeiv2_driver_free(driver_); }
+  ~GslTrial() override {
+    if (driver_ != nullptr) gsl_odeiv2_driver_free(driver_);
+    if (step_ != nullptr) gsl_odeiv2_step_free(step_);
+  }
   GslTrial(const GslTrial&) = delete;
   GslTrial& operator=(const GslTrial&) = delete;
 
   void reset() override {
     samples_.clear();
-    gsl_odeiv2_driver_reset_hstart(driver_, h0_);  // also resets the stepper, control and step count
+    if (driver_ != nullptr)
+      gsl_odeiv2_driver_reset_hstart(driver_, h0_);  // also resets the stepper, control and step count
+    else
+      gsl_odeiv2_step_reset(step_);
     y_ = y0_;
   }
   bool run() override {
     double t = 0;
     samples_.push_back(sample_of(f_, t, y_.data()));
+    std::int64_t steps = 0;
     for (const double ti : times_) {
-      if (gsl_odeiv2_driver_apply(driver_, &t, ti, y_.data()) != GSL_SUCCESS) return false;
+      if (step_ != nullptr) {  // each output interval in ⌈length/h⌉ equal steps
+        const double n = std::ceil((ti - t) / h_ * (1 - 1e-12)), hi = (ti - t) / n;
+        for (std::int64_t k = 0; k < static_cast<std::int64_t>(n); ++k, ++steps)
+          if (gsl_odeiv2_step_apply(step_, t + static_cast<double>(k) * hi, hi, y_.data(), yerr_.data(), nullptr,
+                                    nullptr, &sys_) != GSL_SUCCESS)
+            return false;
+        t = ti;
+      } else if (gsl_odeiv2_driver_apply(driver_, &t, ti, y_.data()) != GSL_SUCCESS) {
+        return false;
+      }
       samples_.push_back(sample_of(f_, t, y_.data()));
     }
-    steps_ = static_cast<std::int64_t>(driver_->n);
+    steps_ = driver_ != nullptr ? static_cast<std::int64_t>(driver_->n) : steps;
     return true;
   }
   std::int64_t steps() const override { return steps_; }
@@ -284,21 +318,24 @@ class GslTrial final : public Trial {
   Rhs f_;
   Y y0_, y_{};
   std::vector<double> times_;
-  double h0_;
+  Y yerr_{};
+  double h0_, h_ = 0;
   gsl_odeiv2_system sys_{};
   gsl_odeiv2_driver* driver_ = nullptr;
+  gsl_odeiv2_step* step_ = nullptr;
   std::int64_t steps_ = 0;
 };
 
-Method gsl_method(const std::string& name, const std::string& description, int order, const gsl_odeiv2_step_type* type) {
+Method gsl_method(const std::string& name, const std::string& description, int order, const gsl_odeiv2_step_type* type,
+                  bool fixed = false) {
   Method m;
   m.name = name;
   m.library = "gsl";
   m.description = description;
   m.order = order;
-  m.adaptive = true;
-  m.make = [type](const Case& c, std::span<const double> times, double tol) -> std::unique_ptr<Trial> {
-    return std::make_unique<GslTrial>(c, times, tol, type);
+  m.adaptive = !fixed;
+  m.make = [type, fixed](const Case& c, std::span<const double> times, double param) -> std::unique_ptr<Trial> {
+    return std::make_unique<GslTrial>(c, times, param, type, fixed);
   };
   return m;
 }
@@ -426,10 +463,14 @@ std::vector<Method> peer_methods(const Case& /*c*/) {
       odeint_method("odeint_bulirsch_stoer", "Boost.Odeint bulirsch_stoer (extrapolation, variable order)", 0,
                     OdeintKind::bulirsch_stoer),
       odeint_method("odeint_rk4", "Boost.Odeint runge_kutta4, fixed steps", 4, OdeintKind::rk4),
+      odeint_method("odeint_rkf78_fixed", "Boost.Odeint runge_kutta_fehlberg78, fixed steps", 8,
+                    OdeintKind::rkf78_fixed),
   };
 #ifdef LGI_BENCH_GSL
   gsl_set_error_handler_off();  // failures are return codes, not aborts
   m.push_back(gsl_method("gsl_rk8pd", "GSL odeiv2 rk8pd (Prince-Dormand 8(9))", 8, gsl_odeiv2_step_rk8pd));
+  m.push_back(gsl_method("gsl_rk8pd_fixed", "GSL odeiv2 rk8pd (Prince-Dormand 8(9)), fixed steps", 8,
+                         gsl_odeiv2_step_rk8pd, true));
   m.push_back(gsl_method("gsl_rk4imp", "GSL odeiv2 rk4imp (implicit Gauss 2-stage, exact Jacobian)", 4,
                          gsl_odeiv2_step_rk4imp));
   m.push_back(gsl_method("gsl_msadams", "GSL odeiv2 msadams (variable-order Adams, functional iteration)", 0,

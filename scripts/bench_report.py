@@ -189,7 +189,10 @@ def main():
       "them (the case's scene with the method, through the command's engine and its compilation), the peers on "
       "the unit quaternion and the body momentum (7 entries, about 60 flops per right-hand side with gravity). "
       "Solver creation and re-initialisation are outside the timing. t(ε) is the CPU time to reach error ε at T, "
-      "interpolated log-log on each method's Pareto front; `—`: not reached within the sweep "
+      "interpolated log-log on each method's Pareto front: fixed-step entries (swept over the number of steps; "
+      "`_fixed`: an embedded pair's method, or a peer's stepper, at fixed steps) are timed at the step that reaches "
+      "ε, as adaptive entries are at the tolerance that does; the `auto` row pays for finding its own. "
+      "`—`: not reached within the sweep "
       "(a single run is capped at %s). `≤`: even the cheapest point of the sweep is below ε (an upper bound). Ratio = lgi best / peer best from the medians: **> 1 means a peer wins** (marked); its spread is the same ratio within each timed pass (the methods are interleaved), as quartiles over the passes and the number of passes in which the peer is faster." %
       fmt_time(wp["timing"]["max_run_seconds"]))
     w("")
