@@ -255,7 +255,8 @@ void dense_order(const char* name, int dense_order_q, std::initializer_list<doub
   const State<double> x0 = test::skew_initial_state();
   Method<P> stepper(skew_top().cast<T>(), tolerances(1e-6));
   std::vector<double> hs, mid, end;
-  double worst_added = 0;  // the dense attitudes' ‖RᵀR − I‖ above the initial attitude's, in ε
+  const double e0 = orthogonality_error_exact(x0.R);
+  double worst_added = 0;  // the dense attitudes' ‖RᵀR − I‖ above the initial attitude's (e0), in ε
   for (const double h : steps) {
     typename Method<P>::Dense d;
     State<T> x1;
@@ -269,7 +270,6 @@ void dense_order(const char* name, int dense_order_q, std::initializer_list<doub
     hs.push_back(h);
     mid.push_back(distance(xm.template cast<L>(), ref_mid));
     end.push_back(distance(x1.template cast<L>(), ref_end));
-    const double e0 = orthogonality_error_exact(x0.R);
     const double e = orthogonality_error_exact(Mat3<double>(xm.R.template cast<double>()));
     worst_added = std::max(worst_added, (e - e0) / std::numeric_limits<double>::epsilon());
     EXPECT_LT(e, e0 + 21.6 * std::numeric_limits<double>::epsilon())
