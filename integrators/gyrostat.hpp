@@ -233,20 +233,27 @@ class GyrostatRkmk : public GyrostatSteps<P> {
   static constexpr int S = tableaus::update_stages(Tableau);
   using V = Eigen::Matrix<Scalar, 6 + N, 1>;  ///< (k, ℓ): the so(3) and (m, h) parts of a stage
 
+  /// Stage I: K_I = (k_I, ℓ_I), combined as the two parts they are written as (rkmk.hpp's stage: a packet of K that
+  /// straddles two separate stores of the stage just written is not forwarded from the store buffer). The same
+  /// operations element by element as on the whole vector, so the same bits.
   template <int I>
   void stage(const Internal& y, const Scalar& t, const Scalar& tau, std::array<V, S>& K) const {
     using T = Scalar;
-    V a = V::Zero();
+    Vec3<T> u = Vec3<T>::Zero();
+    Eigen::Matrix<T, 3 + N, 1> mh = Eigen::Matrix<T, 3 + N, 1>::Zero();
     [&]<int... J>(std::integer_sequence<int, J...>) {
       ([&] {
-        if constexpr (Tableau.a[I][J] != 0) a += T(Tableau.a[I][J]) * K[J];
+        if constexpr (Tableau.a[I][J] != 0) {
+          u += T(Tableau.a[I][J]) * K[J].template head<3>();
+          mh += T(Tableau.a[I][J]) * K[J].template tail<3 + N>();
+        }
       }(), ...);
     }(std::make_integer_sequence<int, I>{});
-    a *= tau;
-    const Vec3<T> u = a.template head<3>();
+    u *= tau;
+    mh *= tau;
     const Mat3<T> R = I == 0 ? y.R : Mat3<T>(y.R * so3::exp(u));
-    const Vec3<T> m = y.m + a.template segment<3>(3);
-    const typename Dynamics::VecN h = y.h + a.template tail<N>();
+    const Vec3<T> m = y.m + mh.template head<3>();
+    const typename Dynamics::VecN h = y.h + mh.template tail<N>();
     const Vec3<T> Omega = dyn_.omega(R, m, h);
     K[I].template head<3>() = I == 0 ? Omega : Vec3<T>(so3::right_jacobian_inverse(u) * Omega);
     K[I].template tail<3 + N>() = dyn_.forcing(t + T(Tableau.c[I]) * tau, R, m, h);

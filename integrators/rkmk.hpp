@@ -325,8 +325,11 @@ class Rkmk {
   template <bool Pr>
   StepStatus step_in(Internal& x, const Scalar& t, const Scalar& h) {
     std::array<Vec6, Tableau.stages> K;
-    Vec3<Scalar> Gamma;  // Rᵀa at the start of the step (reduced-attitude problems)
-    if constexpr (reduced) Gamma = x.R.transpose() * problem_.reduced_axis();
+    Vec3<Scalar> Gamma;  // Rᵀa at the start of the step (reduced-attitude problems; unread otherwise)
+    if constexpr (reduced)
+      Gamma = x.R.transpose() * problem_.reduced_axis();
+    else
+      Gamma.setZero();
     [&]<int... I>(std::integer_sequence<int, I...>) {
       (stage<I, Pr>(x, Gamma, t, h, K), ...);
     }(std::make_integer_sequence<int, update_stages>{});
@@ -444,9 +447,11 @@ class Rkmk {
     return J_.solve(Vec3<Scalar>(J_.apply(Omega).cross(Omega)));
   }
 
-  /// Stage I: K_I = (U_I, V_I). The six components share the tableau's coefficients and are combined as one
-  /// 6-vector (three SSE2 packets instead of two 3-vectors' two packets and two scalars each; the same
-  /// operations element by element, so the same bits).
+  /// Stage I: K_I = (U_I, V_I). U_I and V_I are combined as the 3-vectors they are written as (a packet and a
+  /// scalar each): read back as the 6-vector's three packets, the packet that straddles U_I's last component and
+  /// V_I's first would be loaded from two separate stores of the stage just written, which the store buffer
+  /// cannot forward, and the load waits for both to reach the cache. The same operations element by element as
+  /// the 6-vector's, so the same bits.
   template <int I, bool Pr, std::size_t N>
   void stage(const State<Scalar>& x, const Vec3<Scalar>& Gamma, const Scalar& t, const Scalar& h,
              std::array<Vec6, N>& K) const {
@@ -459,14 +464,17 @@ class Rkmk {
       else
         K[0].template tail<3>() = acceleration(x.Omega);
     } else {
-      Vec6 sum = Vec6::Zero();
+      Vec3<Scalar> sum_U = Vec3<Scalar>::Zero(), sum_V = Vec3<Scalar>::Zero();
       [&]<int... J>(std::integer_sequence<int, J...>) {
         ([&] {
-          if constexpr (Tableau.a[I][J] != 0) sum += Scalar(Tableau.a[I][J]) * K[J];
+          if constexpr (Tableau.a[I][J] != 0) {
+            sum_U += Scalar(Tableau.a[I][J]) * K[J].template head<3>();
+            sum_V += Scalar(Tableau.a[I][J]) * K[J].template tail<3>();
+          }
         }(), ...);
       }(std::make_integer_sequence<int, I>{});
-      const Vec3<Scalar> u = h * sum.template head<3>();
-      const Vec3<Scalar> W = x.Omega + h * sum.template tail<3>();
+      const Vec3<Scalar> u = h * sum_U;
+      const Vec3<Scalar> W = x.Omega + h * sum_V;
       if constexpr (cayley) {
         K[I].template head<3>() = so3::cayley_right_jacobian_inverse(u, W);
         if constexpr (reduced) {
