@@ -134,6 +134,24 @@ namespace lgi {
 /// kind) or R = R_n cay(u) (the Cayley map).
 enum class LieChart : std::uint8_t { exp, cayley };
 
+#if defined(LGI_DISPATCH_CLONES)
+namespace detail {
+// The RKMK step and trial step in double, compiled for the baseline and for AVX2 (core/scalar.hpp), with results
+// equal to the last bit (tests/core/test_dispatch.cpp).
+template <class S>
+[[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_rkmk_step(S& s, typename S::Internal& x,
+                                                                                      double t, double h) {
+  return s.step_inline(x, t, h);
+}
+template <class S>
+[[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_rkmk_attempt(
+    const S& s, const typename S::Internal& x, double t, double h, typename S::Internal& x1, double& error,
+    typename S::Dense& d) {
+  return s.attempt_inline(x, t, h, x1, error, d);
+}
+}  // namespace detail
+#endif
+
 /// The RKMK method of Butcher tableau Tableau (butcher_tableaus.hpp) as a Stepper on problem P (this header):
 /// explicit, the tableau's order, R on SO(3) to round-off; an AdaptiveStepper when the tableau is an embedded pair.
 /// SeriesDegree: the last ad-power kept in the J_r⁻¹ series (−1: the default, the least that keeps the
@@ -252,10 +270,26 @@ class Rkmk {
 
   /// One fixed step from t to t + h (the header's update, the tableau's stages up to its last non-zero b_i): ok or
   /// non_finite, x untouched unless ok. Cost: one torque per stage (none without torque), one exponential or
-  /// Cayley map per stage with a torque and one for the update; no allocation.
+  /// Cayley map per stage with a torque and one for the update; no allocation. In double, through the copy
+  /// compiled for this machine's instruction set (core/scalar.hpp, LGI_DISPATCH_CLONES; the same results bit for
+  /// bit).
   LGI_FLATTEN StepStatus step(Internal& x, const Scalar& t, const Scalar& h) {
+#if defined(LGI_DISPATCH_CLONES)
+    if constexpr (std::is_same_v<Scalar, double>) {
+      return detail::dispatched_rkmk_step(*this, x, t, h);
+    } else
+#endif
+    {
+      if constexpr (lever_in_principal_axes)
+        if (!axes_.identity) return step_principal(x, t, h);
+      return step_in<false>(x, t, h);
+    }
+  }
+
+  /// The step of step() itself, both frames' copies inlined (what the dispatched copies compile).
+  LGI_FLATTEN StepStatus step_inline(Internal& x, const Scalar& t, const Scalar& h) {
     if constexpr (lever_in_principal_axes)
-      if (!axes_.identity) return step_principal(x, t, h);
+      if (!axes_.identity) return step_in<true>(x, t, h);
     return step_in<false>(x, t, h);
   }
 
@@ -280,13 +314,30 @@ class Rkmk {
 
   /// One trial step of size h from (x, t): the new state in x1 (x untouched) and the scaled error norm in
   /// `error` (≤ 1: acceptable). The stages stay in `d` for dense_output. Status non_finite when the trial
-  /// state is not finite (then `error` is +inf).
+  /// state is not finite (then `error` is +inf). In double, through the dispatched copy as step().
   LGI_FLATTEN StepStatus attempt(const Internal& x, const Scalar& t, const Scalar& h, Internal& x1, double& error,
                                  Dense& d) const
     requires embedded
   {
+#if defined(LGI_DISPATCH_CLONES)
+    if constexpr (std::is_same_v<Scalar, double>) {
+      return detail::dispatched_rkmk_attempt(*this, x, t, h, x1, error, d);
+    } else
+#endif
+    {
+      if constexpr (lever_in_principal_axes)
+        if (!axes_.identity) return attempt_principal(x, t, h, x1, error, d);
+      return attempt_in<false>(x, t, h, x1, error, d);
+    }
+  }
+
+  /// The trial step of attempt() itself, both frames' copies inlined (what the dispatched copies compile).
+  LGI_FLATTEN StepStatus attempt_inline(const Internal& x, const Scalar& t, const Scalar& h, Internal& x1,
+                                        double& error, Dense& d) const
+    requires embedded
+  {
     if constexpr (lever_in_principal_axes)
-      if (!axes_.identity) return attempt_principal(x, t, h, x1, error, d);
+      if (!axes_.identity) return attempt_in<true>(x, t, h, x1, error, d);
     return attempt_in<false>(x, t, h, x1, error, d);
   }
 

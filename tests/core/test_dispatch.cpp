@@ -1,12 +1,14 @@
-// tests/core/test_dispatch.cpp — the runtime-dispatched copies of the splitting steps (core/scalar.hpp,
-// LGI_DISPATCH_CLONES; integrators/splitting.hpp) give the same results bit for bit as the step compiled for
-// the baseline instruction set. This executable is the one test built with the copies on: step() goes through
-// the copy the loader picked for this CPU (AVX2 where it has it), step_inline() is the baseline code of this
-// translation unit. Each method runs 3000 steps both ways from the same state, on the Hairer–Vilmart heavy top
-// (diagonal J), the skew top of test_problems.hpp (non-diagonal J, z0 and k off the axes) and a free body;
-// the final R, Ω and the internal momentum must match to the last bit.
+// tests/core/test_dispatch.cpp — the runtime-dispatched copies of the splitting and RKMK steps (core/scalar.hpp,
+// LGI_DISPATCH_CLONES; integrators/splitting.hpp, integrators/rkmk.hpp) give the same results bit for bit as the
+// step compiled for the baseline instruction set. This executable is the one test built with the copies on: step()
+// (and an RKMK pair's attempt()) goes through the copy the loader picked for this CPU (AVX2 where it has it),
+// step_inline() (attempt_inline()) is the baseline code of this translation unit. Each method runs 3000 steps both
+// ways from the same state, on the Hairer–Vilmart heavy top (diagonal J), the skew top of test_problems.hpp
+// (non-diagonal J, z0 and k off the axes: the RKMK steps in principal axes) and a free body; the final R, Ω and
+// the internal state must match to the last bit, and each trial step's error estimate too.
 #include "test_problems.hpp"
 
+#include <lgi/integrators/rkmk.hpp>
 #include <lgi/integrators/splitting.hpp>
 #include <lgi/problems/free_body.hpp>
 #include <lgi/problems/heavy_top.hpp>
@@ -35,9 +37,33 @@ void same_bits(const char* name, const P& problem, const State<double>& x0, doub
   const State<double> xa = a.to_state(ya), xb = b.to_state(yb);
   EXPECT_EQ(std::memcmp(xa.R.data(), xb.R.data(), sizeof(double) * 9), 0) << name;
   EXPECT_EQ(std::memcmp(xa.Omega.data(), xb.Omega.data(), sizeof(double) * 3), 0) << name;
-  EXPECT_EQ(std::memcmp(ya.Pi.data(), yb.Pi.data(), sizeof(double) * 3), 0) << name;
+  if constexpr (requires { ya.Pi; })  // the splittings' internal momentum
+    EXPECT_EQ(std::memcmp(ya.Pi.data(), yb.Pi.data(), sizeof(double) * 3), 0) << name;
+  else  // RKMK: (R, Ω) in the internal frame
+    EXPECT_EQ(std::memcmp(ya.Omega.data(), yb.Omega.data(), sizeof(double) * 3), 0) << name;
   // the two runs are not trivially the same state: 3000 steps moved it
   EXPECT_GT((xa.Omega - x0.Omega).norm(), 1e-3) << name;
+  if constexpr (requires(const S& s, const typename S::Internal& z, typename S::Internal& z1, double& e,
+                          typename S::Dense& d) { s.attempt(z, 0.0, 0.0, z1, e, d); }) {
+    // an embedded pair: its trial steps, each one accepted
+    StepperOptions tolerances;
+    tolerances.rtol = 1e-9;
+    tolerances.atol = 1e-12;
+    const S pa(problem, tolerances), pb(problem, tolerances);
+    typename S::Dense da, db;
+    auto za = pa.to_internal(x0, 0.0), zb = pb.to_internal(x0, 0.0);
+    for (int n = 0; n < 3000; ++n) {
+      auto za1 = za, zb1 = zb;
+      double ea = 0, eb = 0;
+      ASSERT_EQ(pa.attempt(za, n * h, h, za1, ea, da), StepStatus::ok) << name;
+      ASSERT_EQ(pb.attempt_inline(zb, n * h, h, zb1, eb, db), StepStatus::ok) << name;
+      ASSERT_EQ(std::memcmp(&ea, &eb, sizeof ea), 0) << name << ": error estimate of trial step " << n;
+      za = za1;
+      zb = zb1;
+    }
+    EXPECT_EQ(std::memcmp(za.R.data(), zb.R.data(), sizeof(double) * 9), 0) << name << " (trial steps)";
+    EXPECT_EQ(std::memcmp(za.Omega.data(), zb.Omega.data(), sizeof(double) * 3), 0) << name << " (trial steps)";
+  }
 }
 
 template <template <class> class M>
@@ -63,6 +89,13 @@ TEST(Dispatch, SplittingStepsEqualTheBaselineBitForBit) {
   every_case<SplitDmv4>("split_dmv4");
   every_case<SplitDmv10>("split_dmv10");
   every_case<SplitAxes>("split_axes");
+}
+
+TEST(Dispatch, RkmkStepsAndTrialStepsEqualTheBaselineBitForBit) {
+  every_case<Rkmk4>("rkmk4");
+  every_case<RkmkDp5Cayley>("rkmk_dp5_cayley");
+  every_case<RkmkVern9>("rkmk_vern9");
+  every_case<RkmkVern9Cayley>("rkmk_vern9_cayley");
 }
 
 // Negative control: the same steps compiled with FMA contraction (dispatch_fma_control.cpp, a program of its own)
