@@ -148,4 +148,16 @@ StepStatus commit(MomentumState<T>& y, const Mat3<T>& R, const Vec3<T>& Pi) {
   return StepStatus::ok;
 }
 
+#if defined(LGI_DISPATCH_CLONES)
+namespace detail {
+// A stepper's step in double, compiled for the baseline and for AVX2 (core/scalar.hpp): the splittings' and RKMK's
+// step() call it with s.step_inline, the step itself; results equal to the last bit (tests/core/test_dispatch.cpp).
+template <class S>
+[[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_step(S& s, typename S::Internal& y, double t,
+                                                                                 double h) {
+  return s.step_inline(y, t, h);
+}
+}  // namespace detail
+#endif
+
 }  // namespace lgi

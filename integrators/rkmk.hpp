@@ -136,13 +136,8 @@ enum class LieChart : std::uint8_t { exp, cayley };
 
 #if defined(LGI_DISPATCH_CLONES)
 namespace detail {
-// The RKMK step and trial step in double, compiled for the baseline and for AVX2 (core/scalar.hpp), with results
-// equal to the last bit (tests/core/test_dispatch.cpp).
-template <class S>
-[[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_rkmk_step(S& s, typename S::Internal& x,
-                                                                                      double t, double h) {
-  return s.step_inline(x, t, h);
-}
+// The RKMK trial step in double, compiled for the baseline and for AVX2 (core/scalar.hpp; its step:
+// detail::dispatched_step, core/integrator.hpp), with results equal to the last bit (tests/core/test_dispatch.cpp).
 template <class S>
 [[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_rkmk_attempt(
     const S& s, const typename S::Internal& x, double t, double h, typename S::Internal& x1, double& error,
@@ -276,7 +271,7 @@ class Rkmk {
   LGI_FLATTEN StepStatus step(Internal& x, const Scalar& t, const Scalar& h) {
 #if defined(LGI_DISPATCH_CLONES)
     if constexpr (std::is_same_v<Scalar, double>) {
-      return detail::dispatched_rkmk_step(*this, x, t, h);
+      return detail::dispatched_step(*this, x, t, h);
     } else
 #endif
     {

@@ -123,18 +123,6 @@ struct FlowTraits<PreprocessedDmv<T, R>> {
   ///@}
 };
 
-#if defined(LGI_DISPATCH_CLONES)
-namespace detail {
-// The splitting step in double, compiled for the baseline and for AVX2 (core/scalar.hpp), with final states
-// equal to the last bit (tests/core/test_dispatch.cpp).
-template <class S>
-[[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_splitting_step(S& s, typename S::Internal& y,
-                                                                                           double t, double h) {
-  return s.step_inline(y, t, h);
-}
-}  // namespace detail
-#endif
-
 /// The Strang splitting kick(h/2) ∘ Flow(h) ∘ kick(h/2) (this header) as a Stepper on problem P: explicit or
 /// implicit as its Flow, order 2 with a torque, symmetric. The aliases below name the methods.
 template <class Flow, AttitudeTorqueProblem P>
@@ -211,7 +199,7 @@ class Splitting {
   /// LGI_DISPATCH_CLONES; same results bit for bit); step_inline is the step itself.
   LGI_FLATTEN StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
 #if defined(LGI_DISPATCH_CLONES)
-    if constexpr (std::is_same_v<Scalar, double>) return detail::dispatched_splitting_step(*this, y, t, h);
+    if constexpr (std::is_same_v<Scalar, double>) return detail::dispatched_step(*this, y, t, h);
 #endif
     return step_inline(y, t, h);
   }
