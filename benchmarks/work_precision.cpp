@@ -26,8 +26,11 @@
 //   - a first pass discovers each method's sweep (fixed steps: N growing by 10^¼ from h|Ω0| = 1.5, and
 //     shrinking from there while the error stays below 1e-5 when that first point already meets 1e-6;
 //     adaptive: tol = 10^−3, 10^−3.5, …) and stops at error ≤ 1e-13, a run longer than --max-run, or a
-//     round-off plateau; then --reps passes time every point, methods interleaved (the order rotates per
-//     pass); the reported time is the median of the passes;
+//     round-off plateau; then --reps passes time every point, each pass in its own shuffled order of all the
+//     case's points (every method's, and one batch of the peers' right-hand-side micro-benchmark), so that the
+//     machine's slow spells (on a shared VM, 30–70 % slower for seconds) fall on random points of random methods
+//     rather than on one method's whole sweep; the reported time is the median of the passes, and the ratio is
+//     also given from the points' lower quartiles (a robust figure against such one-sided noise);
 //   - error at T: |log(R_refᵀR)| + |Ω − Ω_ref| (wp_common.hpp) against the reference (wp_reference.cpp);
 //     points within 10× of the reference's error bar are marked and used only as upper bounds (below);
 //   - t(ε) for ε = 1e-6, 1e-8, 1e-10, 1e-12: on each method's Pareto front (time increasing, error decreasing),
@@ -60,6 +63,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -430,9 +434,18 @@ struct TimeAt {
 // A point below the reference's resolution (error < 10 × its bar) is within 11 × the bar of the truth, so for
 // ε ≥ 11 × the bar the cheapest such point bounds t(ε) from above (flagged) where it is cheaper than the front's t(ε)
 // or the front has none: the exact solution's points, at round-off, are all of this kind.
-// A point's time: the median of its passes (pass < 0), or its time in that pass (NaN where that pass failed: the
-// pass then gives no ratio).
+// The q-quantile of the finite values (nearest rank).
+double quantile_of(std::vector<double> v, double q) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
+  if (v.empty()) return nan;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5)];
+}
+constexpr int median_of_passes = -1, lower_quartile_of_passes = -2;
+// A point's time: the median of its passes (median_of_passes), their lower quartile (lower_quartile_of_passes), or
+// its time in that pass (NaN where that pass failed: the pass then gives no ratio).
 double point_seconds(const Point& p, int pass) {
+  if (pass == lower_quartile_of_passes) return p.samples.empty() ? p.first_seconds : quantile_of(p.samples, 0.25);
   if (pass < 0) return p.seconds();
   return static_cast<std::size_t>(pass) < p.samples.size() ? p.samples[static_cast<std::size_t>(pass)] : nan;
 }
@@ -484,18 +497,30 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
     std::fprintf(stderr, "  %-32s %2zu points%s\n", m.name.c_str(), r.points.size(),
                  r.status == "ok" ? "" : ("  " + r.status).c_str());
   }
-  // Calibrate each point's batch size, then the timed passes, methods interleaved.
+  // Calibrate each point's batch size, then the timed passes: each pass times every point once, and one batch of
+  // the peers' right-hand side, in an order shuffled afresh (a fixed seed: the same orders every run).
   for (MethodRun& r : runs)
     for (Point& p : r.points)
       if (p.ok) p.inner = std::max(1, static_cast<int>(std::ceil(o.min_batch / std::max(p.first_seconds, 1e-7))));
+  constexpr std::size_t rhs_batch = std::numeric_limits<std::size_t>::max();
+  std::vector<std::pair<std::size_t, std::size_t>> order;  // (run, point), or (rhs_batch, 0)
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    for (std::size_t j = 0; j < runs[k].points.size(); ++j)
+      if (runs[k].points[j].ok) order.emplace_back(k, j);
+  order.emplace_back(rhs_batch, 0);
+  std::mt19937_64 shuffle_engine(0x6c6769);
+  std::vector<double> rhs_seconds;
+  const long rhs_calls = o.smoke ? 20000 : 200000;
   for (int rep = 0; rep < o.reps; ++rep) {
-    for (std::size_t k = 0; k < runs.size(); ++k) {
-      MethodRun& r = runs[(k + static_cast<std::size_t>(rep) * 7) % runs.size()];
-      for (Point& p : r.points) {
-        if (!p.ok) continue;
-        double s = nan;
-        p.samples.push_back(time_sample(*p.trial, p.inner, s) ? s : nan);  // one slot per pass
+    std::shuffle(order.begin(), order.end(), shuffle_engine);
+    for (const auto& [k, j] : order) {
+      if (k == rhs_batch) {
+        rhs_seconds.push_back(peer_rhs_seconds(c, 1, rhs_calls).front());
+        continue;
       }
+      Point& p = runs[k].points[j];
+      double s = nan;
+      p.samples.push_back(time_sample(*p.trial, p.inner, s) ? s : nan);  // one slot per pass
     }
   }
 
@@ -508,11 +533,9 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
   json jr = reference_json(c, ref);
   jr["from_cache"] = ref.from_cache;
   jc["reference"] = jr;
-  {  // the peers' right-hand side alone: ns a call, median and quartiles of 21 batches of 2e5 calls
-    std::vector<double> s = peer_rhs_seconds(c, o.smoke ? 3 : 21, o.smoke ? 20000 : 200000);
-    std::sort(s.begin(), s.end());
-    const auto q = [&](double f) { return 1e9 * s[static_cast<std::size_t>(f * static_cast<double>(s.size() - 1) + 0.5)]; };
-    jc["peer_rhs_ns"] = {{"median", q(0.5)}, {"q1", q(0.25)}, {"q3", q(0.75)}, {"batches", s.size()}};
+  {  // the peers' right-hand side alone: ns a call, median and quartiles of one batch of 2e5 calls a pass
+    const auto q = [&](double f) { return 1e9 * quantile_of(rhs_seconds, f); };
+    jc["peer_rhs_ns"] = {{"median", q(0.5)}, {"q1", q(0.25)}, {"q3", q(0.75)}, {"batches", rhs_seconds.size()}};
   }
   json jm = json::array();
   std::map<std::string, std::map<double, TimeAt>> t_at;
@@ -587,6 +610,25 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
     s["peer_seconds"] = std::isfinite(peer_t) ? json(peer_t) : json(nullptr);
     const double ratio = lgi_t / peer_t;
     s["ratio_lgi_over_peer"] = std::isfinite(ratio) ? json(ratio) : json(nullptr);
+    {  // the same comparison from each point's lower quartile over the passes (each side's best chosen afresh)
+      double lgi_lq = nan, peer_lq = nan;
+      std::string lgi_lq_name, peer_lq_name;
+      for (const MethodRun& r : runs) {
+        if (r.method.name == "auto") continue;
+        const double t = time_at(r, eps, ref.error_bar, lower_quartile_of_passes).seconds;
+        if (!std::isfinite(t)) continue;
+        double& best = r.method.library == "lgi" ? lgi_lq : peer_lq;
+        std::string& name = r.method.library == "lgi" ? lgi_lq_name : peer_lq_name;
+        if (!(t >= best)) {
+          best = t;
+          name = r.method.name;
+        }
+      }
+      const double lq = lgi_lq / peer_lq;
+      s["lower_quartiles"] = {{"lgi_best", lgi_lq_name.empty() ? json(nullptr) : json(lgi_lq_name)},
+                              {"peer_best", peer_lq_name.empty() ? json(nullptr) : json(peer_lq_name)},
+                              {"ratio_lgi_over_peer", std::isfinite(lq) ? json(lq) : json(nullptr)}};
+    }
     // "auto" (its choice and probes timed) against the fastest lgi method at the same ε, with the per-pass spread.
     if (const auto a = t_at.find("auto"); a != t_at.end() && std::isfinite(a->second[eps].seconds)) {
       const double auto_t = a->second[eps].seconds;
@@ -613,8 +655,8 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
         }
       }
     }
-    // The spread: the ratio of the two methods' t(ε) within each timed pass (the methods are interleaved, so a pass
-    // sees both in the same minutes of the machine), its quartiles over the passes.
+    // The spread: the ratio of the two methods' t(ε) within each timed pass (every pass times both, in the same
+    // minutes of the machine), its quartiles over the passes.
     if (!lgi_best.empty() && !peer_best.empty()) {
       const auto run_of = [&](const std::string& name) -> const MethodRun& {
         return *std::find_if(runs.begin(), runs.end(), [&](const MethodRun& r) { return r.method.name == name; });
@@ -901,6 +943,7 @@ int main(int argc, char** argv) {
     out["timing"] = {{"clock", "CLOCK_THREAD_CPUTIME_ID (thread CPU time)"},
                      {"repetitions", o.reps},
                      {"statistic", "median of the repetitions; each repetition a batch of >= 2 ms, reset cost subtracted"},
+                     {"order", "each repetition times every point of a case once, in an order shuffled afresh"},
                      {"max_run_seconds", o.max_run}};
     out["error_measure"] = "|log(R_ref^T R)| + |Omega - Omega_ref| at t_eval (rotation angle + Euclidean norm)";
     out["targets"] = targets;

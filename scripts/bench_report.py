@@ -179,8 +179,9 @@ def main():
     w("| system | %s |" % m.get("kernel", "?"))
     w("| compiler | %s, flags `%s` (lgi and the peers alike) |" % (m["compiler"], m["flags"].strip()))
     w("| libraries | %s |" % ", ".join("%s %s" % (k, v) for k, v in m["libraries"].items()))
-    w("| timing | %s; %s; %d repetitions, methods interleaved |" %
-      (wp["timing"]["clock"], wp["timing"]["statistic"], wp["timing"]["repetitions"]))
+    w("| timing | %s; %s; %d repetitions; %s |" %
+      (wp["timing"]["clock"], wp["timing"]["statistic"], wp["timing"]["repetitions"],
+       wp["timing"].get("order", "methods interleaved")))
     w("| error | %s |" % wp["error_measure"])
     if wp.get("smoke"):
         w("| **smoke run** | tiny sizes, one repetition: not a measurement |")
@@ -193,15 +194,15 @@ def main():
       "`_fixed`: an embedded pair's method, or a peer's stepper, at fixed steps) are timed at the step that reaches "
       "ε, as adaptive entries are at the tolerance that does; the `auto` row pays for finding its own. "
       "`—`: not reached within the sweep "
-      "(a single run is capped at %s). `≤`: even the cheapest point of the sweep is below ε (an upper bound). Ratio = lgi best / peer best from the medians: **> 1 means a peer wins** (marked); its spread is the same ratio within each timed pass (the methods are interleaved), as quartiles over the passes and the number of passes in which the peer is faster." %
+      "(a single run is capped at %s). `≤`: even the cheapest point of the sweep is below ε (an upper bound). Ratio = lgi best / peer best from the medians: **> 1 means a peer wins** (marked); its spread is the same ratio within each timed pass (every pass times every point once, in its own shuffled order), as quartiles over the passes and the number of passes in which the peer is faster. The last column is the same comparison from each point's lower quartile over the passes instead of its median, each side's best chosen afresh: the machine's noise only ever slows a run, so a sceptic can see whether a ratio depends on when the slow spells fell." %
       fmt_time(wp["timing"]["max_run_seconds"]))
     w("")
 
     # Headline table
     w("## Headline: fastest lgi method against the fastest peer")
     w("")
-    w("| case | ε | lgi best | t | peer best | t | lgi / peer | per pass: quartiles, passes the peer wins |")
-    w("|---|---|---|---:|---|---:|---:|---|")
+    w("| case | ε | lgi best | t | peer best | t | lgi / peer | per pass: quartiles, passes the peer wins | from lower quartiles |")
+    w("|---|---|---|---:|---|---:|---:|---|---:|")
     for c in wp["cases"]:
         for eps in TARGETS:
             s = c["summary"][eps]
@@ -211,8 +212,10 @@ def main():
             pt = ("≤ " if s.get("peer_upper_bound") else "") + fmt_time(s["peer_seconds"])
             spread = ("%.2f–%.2f, %d of %d" % (s["ratio_q1"], s["ratio_q3"], s["peer_wins_passes"], s["ratio_passes"])
                       if s.get("ratio_passes") else "—")
-            w("| %s | %s | %s | %s | %s | %s | %s | %s |" % (
-                c["name"], EPS_LABEL[eps], s["lgi_best"] or "—", lt, s["peer_best"] or "—", pt, rs, spread))
+            lq = (s.get("lower_quartiles") or {}).get("ratio_lgi_over_peer")
+            w("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+                c["name"], EPS_LABEL[eps], s["lgi_best"] or "—", lt, s["peer_best"] or "—", pt, rs, spread,
+                "—" if lq is None else "%.2f" % lq))
     w("")
     wins = [(c["name"], EPS_LABEL[e]) for c in wp["cases"] for e in TARGETS
             if c["summary"][e]["peer_wins"]]
@@ -278,7 +281,7 @@ def main():
             rhs_text = (" and %.0f instructions (callgrind, the loop's call included)" % rhs_instr[c["name"]]
                         if c["name"] in rhs_instr else "")
             w("The peers' right-hand side (scalar code, called through a function pointer): %.1f ns a call (quartiles "
-              "%.1f–%.1f ns over %d batches)%s." % (r["median"], r["q1"], r["q3"], r["batches"], rhs_text))
+              "%.1f–%.1f ns over %d batches, one in each timed pass)%s." % (r["median"], r["q1"], r["q3"], r["batches"], rhs_text))
             w("")
         w("![work-precision %s](img/%s)" % (c["name"], png))
         w("")
