@@ -150,11 +150,25 @@ StepStatus commit(MomentumState<T>& y, const Mat3<T>& R, const Vec3<T>& Pi) {
 
 #if defined(LGI_DISPATCH_CLONES)
 namespace detail {
-// A stepper's step in double, compiled for the baseline and for AVX2 (core/scalar.hpp): the splittings' and RKMK's
-// step() call it with s.step_inline, the step itself; results equal to the last bit (tests/core/test_dispatch.cpp).
+/// True when this CPU runs the AVX2 copies (core/scalar.hpp); asked once per process.
+inline bool cpu_has_avx2() {
+  static const bool has = [] {
+    __builtin_cpu_init();  // may run before the constructors that would have called it
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return has;
+}
+// A stepper's step in double compiled for AVX2: s.step_inline<true>, the step itself with the 4-wide code it may
+// have for that copy (integrators/rkmk.hpp); results equal to the baseline's to the last bit
+// (tests/core/test_dispatch.cpp).
 template <class S>
-[[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_step(S& s, typename S::Internal& y, double t,
-                                                                                 double h) {
+[[gnu::target("avx2"), gnu::flatten]] StepStatus avx2_step(S& s, typename S::Internal& y, double t, double h) {
+  return s.template step_inline<true>(y, t, h);
+}
+// The splittings' and RKMK's step() in double: the AVX2 copy where this CPU has AVX2, else the baseline step.
+template <class S>
+StepStatus dispatched_step(S& s, typename S::Internal& y, double t, double h) {
+  if (cpu_has_avx2()) return avx2_step(s, y, t, h);
   return s.step_inline(y, t, h);
 }
 }  // namespace detail

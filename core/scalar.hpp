@@ -34,13 +34,13 @@
 #endif
 #endif
 
-// Runtime-dispatched copies of the hottest steps (integrators/splitting.hpp: kick + DMV and the other
-// splittings, in double): GCC's target_clones compiles the step for the x86-64 baseline and for AVX2, and
-// the dynamic loader picks one for the machine (an ifunc). The AVX2 copy does the same IEEE operations in the
-// same order — three-operand VEX encoding and wider registers, no FMA (GCC contracts a·b + c only where FMA
-// instructions are enabled, and "avx2" does not enable them) — so results are the same bit for bit
-// (tests/core/test_dispatch.cpp). Off for other compilers and targets, and where LGI_NO_DISPATCH is defined (the
-// unit tests, which build without flattening for compile time).
+// Runtime-dispatched copies of the hottest steps (integrators/splitting.hpp and integrators/rkmk.hpp, in double):
+// each step is compiled for the x86-64 baseline and, under GCC's target("avx2"), for AVX2 (core/integrator.hpp,
+// detail::dispatched_step), and the CPU's features, asked once per process, pick one. The AVX2 copy does the
+// same IEEE operations in the same order — three-operand VEX encoding and wider registers (RKMK: 4-wide vectors
+// for its 3-vectors), no FMA (GCC contracts a·b + c only where FMA instructions are enabled, and "avx2" does not
+// enable them) — so results are the same bit for bit (tests/core/test_dispatch.cpp). Off for other compilers and
+// targets, and where LGI_NO_DISPATCH is defined (the unit tests, which build without flattening for compile time).
 #if !defined(LGI_NO_DISPATCH) && defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12 && \
     defined(__x86_64__) && defined(__gnu_linux__)
 #define LGI_DISPATCH_CLONES 1

@@ -136,15 +136,64 @@ enum class LieChart : std::uint8_t { exp, cayley };
 
 #if defined(LGI_DISPATCH_CLONES)
 namespace detail {
-// The RKMK trial step in double, compiled for the baseline and for AVX2 (core/scalar.hpp; its step:
-// detail::dispatched_step, core/integrator.hpp), with results equal to the last bit (tests/core/test_dispatch.cpp).
+// The RKMK trial step in double, compiled for the baseline and for AVX2 as the step (core/scalar.hpp,
+// core/integrator.hpp), with results equal to the last bit (tests/core/test_dispatch.cpp).
 template <class S>
-[[gnu::target_clones("avx2", "default"), gnu::flatten]] StepStatus dispatched_rkmk_attempt(
-    const S& s, const typename S::Internal& x, double t, double h, typename S::Internal& x1, double& error,
-    typename S::Dense& d) {
+[[gnu::target("avx2"), gnu::flatten]] StepStatus avx2_rkmk_attempt(const S& s, const typename S::Internal& x,
+                                                                   double t, double h, typename S::Internal& x1,
+                                                                   double& error, typename S::Dense& d) {
+  return s.template attempt_inline<true>(x, t, h, x1, error, d);
+}
+template <class S>
+StepStatus dispatched_rkmk_attempt(const S& s, const typename S::Internal& x, double t, double h,
+                                   typename S::Internal& x1, double& error, typename S::Dense& d) {
+  if (cpu_has_avx2()) return avx2_rkmk_attempt(s, x, t, h, x1, error, d);
   return s.attempt_inline(x, t, h, x1, error, d);
 }
 }  // namespace detail
+
+#if !defined(__clang__)
+#define LGI_RKMK_V4 1
+namespace detail::v4 {
+// The AVX2 copy's stage arithmetic: 3-vectors of double as 4-wide vectors (GCC's vector extension; entry 3 a copy
+// of entry 2, computed alongside and never read), one packet of four each. Every operation is the one Eigen
+// performs on a Vec3 element by element, in the same order, so the results are the same bits as the baseline's.
+// Compiled for AVX2 (target("avx2")), as is every function that passes these vectors by value, so that calls
+// between them agree on how a 32-byte vector is passed where they are not inlined; reached only from the AVX2
+// copy (under the baseline the 4-wide code would be emulated, far slower).
+typedef double V4 __attribute__((vector_size(32)));
+typedef long long I4 __attribute__((vector_size(32)));
+[[gnu::target("avx2")]] inline V4 of(const Vec3<double>& a) { return V4{a[0], a[1], a[2], a[2]}; }
+[[gnu::target("avx2")]] inline Vec3<double> vec3(const V4& a) { return Vec3<double>(a[0], a[1], a[2]); }
+/// a × b as Eigen's cross: (a1 b2 − a2 b1, a2 b0 − a0 b2, a0 b1 − a1 b0)
+[[gnu::target("avx2")]] inline V4 cross(const V4& a, const V4& b) {
+  const V4 a1 = __builtin_shuffle(a, I4{1, 2, 0, 3}), a2 = __builtin_shuffle(a, I4{2, 0, 1, 3});
+  const V4 b1 = __builtin_shuffle(b, I4{1, 2, 0, 3}), b2 = __builtin_shuffle(b, I4{2, 0, 1, 3});
+  return a1 * b2 - a2 * b1;
+}
+/// a·b as Eigen's reduction of a 3-vector: (a0 b0 + a1 b1) + a2 b2
+[[gnu::target("avx2")]] inline double dot(const V4& a, const V4& b) {
+  const V4 p = a * b;
+  return (p[0] + p[1]) + p[2];
+}
+/// (Σ_J c_J U_J, Σ_J c_J V_J) over the stages J < N (K_J = (U_J, V_J)) whose coefficient c_J = Coef::at<J>() is
+/// not zero, J ascending: the baseline's sums term by term.
+template <int N, class Coef>
+[[gnu::target("avx2")]] void combine(const Eigen::Matrix<double, 6, 1>* K, V4& sum_U, V4& sum_V) {
+  sum_U = V4{0, 0, 0, 0};
+  sum_V = V4{0, 0, 0, 0};
+  [&]<int... J>(std::integer_sequence<int, J...>) {
+    ([&] {
+      if constexpr (Coef::template at<J>() != 0) {
+        const V4 U = {K[J][0], K[J][1], K[J][2], K[J][2]}, V = {K[J][3], K[J][4], K[J][5], K[J][5]};
+        sum_U += double(Coef::template at<J>()) * U;
+        sum_V += double(Coef::template at<J>()) * V;
+      }
+    }(), ...);
+  }(std::make_integer_sequence<int, N>{});
+}
+}  // namespace detail::v4
+#endif
 #endif
 
 /// The RKMK method of Butcher tableau Tableau (butcher_tableaus.hpp) as a Stepper on problem P (this header):
@@ -187,6 +236,14 @@ class Rkmk {
   static constexpr bool has_second_estimate = tableaus::has_second_estimate(Tableau);
   static constexpr int update_stages = tableaus::update_stages(Tableau);  ///< the stages a fixed step needs
   using Weights = tableaus::Weights;
+  /// The AVX2 copy's stages use the 4-wide arithmetic of detail::v4 (double, GCC).
+#if defined(LGI_RKMK_V4)
+  template <bool Avx2>
+  static constexpr bool wide = Avx2 && std::is_same_v<Scalar, double>;
+#else
+  template <bool Avx2>
+  static constexpr bool wide = false;
+#endif
 
   /// Scene name and title: the tableau's, with "_cayley" and " in Cayley coordinates" for the Cayley chart.
   template <std::size_t N>
@@ -281,11 +338,13 @@ class Rkmk {
     }
   }
 
-  /// The step of step() itself, both frames' copies inlined (what the dispatched copies compile).
+  /// The step of step() itself, both frames' copies inlined (what the dispatched copies compile); Avx2: the AVX2
+  /// copy's code (core/integrator.hpp, detail::avx2_step), 4-wide in double, the same results bit for bit.
+  template <bool Avx2 = false>
   LGI_FLATTEN StepStatus step_inline(Internal& x, const Scalar& t, const Scalar& h) {
     if constexpr (lever_in_principal_axes)
-      if (!axes_.identity) return step_in<true>(x, t, h);
-    return step_in<false>(x, t, h);
+      if (!axes_.identity) return step_in<true, wide<Avx2>>(x, t, h);
+    return step_in<false, wide<Avx2>>(x, t, h);
   }
 
   // ---- embedded pairs: adaptive steps and dense output (integrators/adaptive.hpp) ----
@@ -326,14 +385,16 @@ class Rkmk {
     }
   }
 
-  /// The trial step of attempt() itself, both frames' copies inlined (what the dispatched copies compile).
+  /// The trial step of attempt() itself, both frames' copies inlined (what the dispatched copies compile); Avx2 as
+  /// for step_inline.
+  template <bool Avx2 = false>
   LGI_FLATTEN StepStatus attempt_inline(const Internal& x, const Scalar& t, const Scalar& h, Internal& x1,
                                         double& error, Dense& d) const
     requires embedded
   {
     if constexpr (lever_in_principal_axes)
-      if (!axes_.identity) return attempt_in<true>(x, t, h, x1, error, d);
-    return attempt_in<false>(x, t, h, x1, error, d);
+      if (!axes_.identity) return attempt_in<true, wide<Avx2>>(x, t, h, x1, error, d);
+    return attempt_in<false, wide<Avx2>>(x, t, h, x1, error, d);
   }
 
   /// The state at t + θh of the step that filled d (θ ∈ [0, 1]): R_n exp(u(θh)), Ω(θh) from the continuous
@@ -368,7 +429,7 @@ class Rkmk {
     return dense_in<true>(d, theta);
   }
 
-  template <bool Pr>
+  template <bool Pr, bool Wide = false>
   StepStatus step_in(Internal& x, const Scalar& t, const Scalar& h) {
     std::array<Vec6, Tableau.stages> K;
     Vec3<Scalar> Gamma;  // Rᵀa at the start of the step (reduced-attitude problems; unread otherwise)
@@ -377,16 +438,16 @@ class Rkmk {
     else
       Gamma.setZero();
     [&]<int... I>(std::integer_sequence<int, I...>) {
-      (stage<I, Pr>(x, Gamma, t, h, K), ...);
+      (stage<I, Pr, Wide>(x, Gamma, t, h, K), ...);
     }(std::make_integer_sequence<int, update_stages>{});
-    const Vec6 sum = weighted_sum<Weights::b, update_stages>(K);
-    const Vec3<Scalar> u = sum.template head<3>(), dOmega = sum.template tail<3>();
+    Vec3<Scalar> u, dOmega;
+    weighted_sum<Weights::b, update_stages, Wide>(K, u, dOmega);
     // R exp(hu) as R + R (exp(hu) − I): see core/so3.hpp on the rounding of the increment.
     const Mat3<Scalar> R1 = x.R + x.R * increment(Vec3<Scalar>(h * u));
     return commit(x, R1, Vec3<Scalar>(x.Omega + h * dOmega));
   }
 
-  template <bool Pr>
+  template <bool Pr, bool Wide = false>
   StepStatus attempt_in(const Internal& x, const Scalar& t, const Scalar& h, Internal& x1, double& error,
                         Dense& d) const {
     d.x = x;
@@ -395,11 +456,11 @@ class Rkmk {
     d.extended = false;
     if constexpr (reduced) d.Gamma = x.R.transpose() * problem_.reduced_axis();
     [&]<int... I>(std::integer_sequence<int, I...>) {
-      (stage<I, Pr>(x, d.Gamma, t, h, d.K), ...);
+      (stage<I, Pr, Wide>(x, d.Gamma, t, h, d.K), ...);
     }(std::make_integer_sequence<int, Tableau.stages>{});
-    const Vec6 sum = weighted_sum<Weights::b, Tableau.stages>(d.K), err = weighted_sum<Weights::e, Tableau.stages>(d.K);
-    const Vec3<Scalar> u = sum.template head<3>(), dOmega = sum.template tail<3>(), du = err.template head<3>(),
-                       dW = err.template tail<3>();
+    Vec3<Scalar> u, dOmega, du, dW;
+    weighted_sum<Weights::b, Tableau.stages, Wide>(d.K, u, dOmega);
+    weighted_sum<Weights::e, Tableau.stages, Wide>(d.K, du, dW);
     const Mat3<Scalar> R1 = x.R + x.R * increment(Vec3<Scalar>(h * u));
     const Vec3<Scalar> Omega1 = x.Omega + h * dOmega;
     if (!all_finite(R1) || !all_finite(Omega1)) {
@@ -429,8 +490,8 @@ class Rkmk {
     };
     const double s5 = scaled(du, dW);
     if constexpr (has_second_estimate) {
-      const Vec6 err3 = weighted_sum<Weights::e3, Tableau.stages>(d.K);
-      const Vec3<Scalar> du3 = err3.template head<3>(), dW3 = err3.template tail<3>();
+      Vec3<Scalar> du3, dW3;
+      weighted_sum<Weights::e3, Tableau.stages, Wide>(d.K, du3, dW3);
       const double deno = s5 + 0.01 * scaled(du3, dW3);
       error = deno > 0 ? s5 / std::sqrt(6.0 * deno) : 0.0;
     } else {
@@ -473,9 +534,33 @@ class Rkmk {
       return so3::exp_increment(w);
   }
 
-  template <Weights W, int N, std::size_t M>
-  static Vec6 weighted_sum(const std::array<Vec6, M>& K) {
-    return tableaus::weighted_sum<Tableau, W, N>(K);
+  /// The tableau's weights W (b, e or e3), or row I of its a, as coefficients c_J = at<J>() (detail::v4::combine).
+  template <Weights W>
+  struct WeightCoef {
+    template <int J>
+    static constexpr auto at() { return tableaus::weight<Tableau, W, J>(); }
+  };
+  template <int I>
+  struct RowCoef {
+    template <int J>
+    static constexpr auto at() { return Tableau.a[I][J]; }
+  };
+
+  /// (Σ w_i U_i, Σ w_i V_i) over the first N stages, the weights W in stage order, the zero weights skipped.
+  template <Weights W, int N, bool Wide, std::size_t M>
+  static void weighted_sum(const std::array<Vec6, M>& K, Vec3<Scalar>& sum_U, Vec3<Scalar>& sum_V) {
+#if defined(LGI_RKMK_V4)
+    if constexpr (Wide) {
+      detail::v4::V4 su, sv;
+      detail::v4::combine<N, WeightCoef<W>>(K.data(), su, sv);
+      sum_U = detail::v4::vec3(su);
+      sum_V = detail::v4::vec3(sv);
+      return;
+    }
+#endif
+    const Vec6 s = tableaus::weighted_sum<Tableau, W, N>(K);
+    sum_U = s.template head<3>();
+    sum_V = s.template tail<3>();
   }
 
   /// The torque at Γ in the internal frame: the problem's, or Γ × Qᵀv in principal axes (Pr). (Not Γ × v in the
@@ -498,7 +583,7 @@ class Rkmk {
   /// V_I's first would be loaded from two separate stores of the stage just written, which the store buffer
   /// cannot forward, and the load waits for both to reach the cache. The same operations element by element as
   /// the 6-vector's, so the same bits.
-  template <int I, bool Pr, std::size_t N>
+  template <int I, bool Pr, bool Wide = false, std::size_t N>
   void stage(const State<Scalar>& x, const Vec3<Scalar>& Gamma, const Scalar& t, const Scalar& h,
              std::array<Vec6, N>& K) const {
     if constexpr (I == 0) {
@@ -511,14 +596,27 @@ class Rkmk {
         K[0].template tail<3>() = acceleration(x.Omega);
     } else {
       Vec3<Scalar> sum_U = Vec3<Scalar>::Zero(), sum_V = Vec3<Scalar>::Zero();
-      [&]<int... J>(std::integer_sequence<int, J...>) {
-        ([&] {
-          if constexpr (Tableau.a[I][J] != 0) {
-            sum_U += Scalar(Tableau.a[I][J]) * K[J].template head<3>();
-            sum_V += Scalar(Tableau.a[I][J]) * K[J].template tail<3>();
-          }
-        }(), ...);
-      }(std::make_integer_sequence<int, I>{});
+#if defined(LGI_RKMK_V4)
+      if constexpr (Wide && cayley && reduced && principal_capable) {
+        wide_cayley_reduced_stage<I, Pr>(x, Gamma, h, K);
+        return;
+      } else if constexpr (Wide) {
+        detail::v4::V4 su, sv;
+        detail::v4::combine<I, RowCoef<I>>(K.data(), su, sv);
+        sum_U = detail::v4::vec3(su);
+        sum_V = detail::v4::vec3(sv);
+      } else
+#endif
+      {
+        [&]<int... J>(std::integer_sequence<int, J...>) {
+          ([&] {
+            if constexpr (Tableau.a[I][J] != 0) {
+              sum_U += Scalar(Tableau.a[I][J]) * K[J].template head<3>();
+              sum_V += Scalar(Tableau.a[I][J]) * K[J].template tail<3>();
+            }
+          }(), ...);
+        }(std::make_integer_sequence<int, I>{});
+      }
       const Vec3<Scalar> u = h * sum_U;
       const Vec3<Scalar> W = x.Omega + h * sum_V;
       if constexpr (cayley) {
@@ -550,6 +648,33 @@ class Rkmk {
       }
     }
   }
+
+#if defined(LGI_RKMK_V4)
+  /// Stage I > 0 in Cayley coordinates with a reduced torque, J_ diagonal (principal_capable), in the AVX2 copy:
+  /// stage()'s operations in the same order, on detail::v4 vectors, so the same bits.
+  template <int I, bool Pr, std::size_t N>
+  [[gnu::target("avx2")]] void wide_cayley_reduced_stage(const State<Scalar>& x, const Vec3<Scalar>& Gamma,
+                                                         const Scalar& h, std::array<Vec6, N>& K) const {
+    using detail::v4::V4, detail::v4::of, detail::v4::cross, detail::v4::dot;
+    V4 sum_U, sum_V;
+    detail::v4::combine<I, RowCoef<I>>(K.data(), sum_U, sum_V);
+    const V4 u = h * sum_U;
+    const V4 W = of(x.Omega) + h * sum_V;
+    const V4 U = (W + 0.5 * cross(u, W)) + (0.25 * dot(u, W)) * u;  // so3::cayley_right_jacobian_inverse
+    const double u2 = dot(u, u);
+    const double A = 4.0 / (4.0 + u2);
+    const double half_A = 0.5 * A;
+    const V4 G = of(Gamma);
+    const V4 Gamma_i = (G - A * cross(u, G)) + half_A * (dot(u, G) * u - u2 * G);
+    V4 M;
+    if constexpr (Pr)
+      M = cross(Gamma_i, of(lever_));
+    else
+      M = of(problem_.reduced_torque(detail::v4::vec3(Gamma_i)));
+    const V4 V = of(J_.J_inv.diagonal()) * (cross(of(J_.J.diagonal()) * W, W) + M);  // acceleration(W, M)
+    K[I] << U[0], U[1], U[2], V[0], V[1], V[2];
+  }
+#endif
 
   P problem_;
   Inertia<Scalar> J_;  ///< diag(I) in principal axes

@@ -206,6 +206,8 @@ class Splitting {
 
   /// One step from t to t + h (this header's update): ok, or the flow's not_converged (DMV flows: Newton within
   /// max_iterations), or non_finite; y untouched unless ok. One torque evaluation a step; no allocation.
+  /// Avx2: compiled into the AVX2 copy (core/integrator.hpp, detail::avx2_step); the same code either way.
+  template <bool Avx2 = false>
   LGI_FLATTEN StepStatus step_inline(Internal& y, const Scalar& t, const Scalar& h) {
     using T = Scalar;
     const T half_h = T(0.5) * h;
