@@ -579,6 +579,9 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
   }
   jc["methods"] = jm;
 
+  const auto run_named = [&](const std::string& name) -> const MethodRun& {
+    return *std::find_if(runs.begin(), runs.end(), [&](const MethodRun& r) { return r.method.name == name; });
+  };
   json summary;
   for (const double eps : targets) {
     std::string lgi_best, peer_best;
@@ -636,9 +639,6 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
       s["auto_upper_bound"] = a->second[eps].upper_bound;
       if (std::isfinite(lgi_t)) {
         s["ratio_auto_over_lgi_best"] = auto_t / lgi_t;
-        const auto run_named = [&](const std::string& name) -> const MethodRun& {
-          return *std::find_if(runs.begin(), runs.end(), [&](const MethodRun& r) { return r.method.name == name; });
-        };
         std::vector<double> per_pass;
         for (int pass = 0; pass < o.reps; ++pass) {
           const double q = time_at(run_named("auto"), eps, ref.error_bar, pass).seconds /
@@ -646,35 +646,24 @@ json run_case(const Case& c, const Reference& ref, const Options& o) {
           if (std::isfinite(q)) per_pass.push_back(q);
         }
         if (!per_pass.empty()) {
-          std::sort(per_pass.begin(), per_pass.end());
-          const auto quantile = [&](double f) {
-            return per_pass[static_cast<std::size_t>(f * static_cast<double>(per_pass.size() - 1) + 0.5)];
-          };
-          s["auto_ratio_q1"] = quantile(0.25);
-          s["auto_ratio_q3"] = quantile(0.75);
+          s["auto_ratio_q1"] = quantile_of(per_pass, 0.25);
+          s["auto_ratio_q3"] = quantile_of(per_pass, 0.75);
         }
       }
     }
     // The spread: the ratio of the two methods' t(ε) within each timed pass (every pass times both, in the same
     // minutes of the machine), its quartiles over the passes.
     if (!lgi_best.empty() && !peer_best.empty()) {
-      const auto run_of = [&](const std::string& name) -> const MethodRun& {
-        return *std::find_if(runs.begin(), runs.end(), [&](const MethodRun& r) { return r.method.name == name; });
-      };
-      const MethodRun &a = run_of(lgi_best), &b = run_of(peer_best);
+      const MethodRun &a = run_named(lgi_best), &b = run_named(peer_best);
       std::vector<double> per_pass;
       for (int pass = 0; pass < o.reps; ++pass) {
         const double q = time_at(a, eps, ref.error_bar, pass).seconds / time_at(b, eps, ref.error_bar, pass).seconds;
         if (std::isfinite(q)) per_pass.push_back(q);
       }
       if (!per_pass.empty()) {
-        std::sort(per_pass.begin(), per_pass.end());
-        const auto quantile = [&](double f) {
-          return per_pass[static_cast<std::size_t>(f * static_cast<double>(per_pass.size() - 1) + 0.5)];
-        };
         s["ratio_passes"] = per_pass.size();
-        s["ratio_q1"] = quantile(0.25);
-        s["ratio_q3"] = quantile(0.75);
+        s["ratio_q1"] = quantile_of(per_pass, 0.25);
+        s["ratio_q3"] = quantile_of(per_pass, 0.75);
         s["peer_wins_passes"] = std::count_if(per_pass.begin(), per_pass.end(), [](double q) { return q > 1; });
       }
     }
