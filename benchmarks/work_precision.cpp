@@ -16,7 +16,9 @@
 //
 // Method (the fair rules):
 //   - every solver integrates the same body from the same initial state (wp_common.hpp); lgi's methods on
-//     SO(3) × R³, the peers on (quaternion, body momentum); same compiler and flags (this file's build);
+//     SO(3) × R³, the peers on (quaternion, body momentum); same compiler and flags (this file's build), the peers
+//     also for x86-64-v3 where the building machine has it (LGI_BENCH_PEER_ISA, benchmarks/CMakeLists.txt), the
+//     instruction set of lgi's dispatched steps;
 //   - fixed steps and adaptive steps on both sides: lgi's embedded pair rkmk_vern9_cayley also at fixed steps
 //     (`rkmk_vern9_cayley_fixed`), and the peers' eighth-order steppers likewise (`odeint_rkf78_fixed`,
 //     `gsl_rk8pd_fixed`, wp_peers.cpp), so that neither side's best kind of run is missing;
@@ -67,6 +69,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <sys/utsname.h>
 #include <type_traits>
 #include <vector>
@@ -76,6 +79,9 @@
 #endif
 #ifndef LGI_BENCH_CXX_FLAGS
 #define LGI_BENCH_CXX_FLAGS "?"
+#endif
+#ifndef LGI_BENCH_PEER_ISA
+#define LGI_BENCH_PEER_ISA ""
 #endif
 
 namespace wp {
@@ -885,6 +891,7 @@ json machine_json() {
   if (uname(&u) == 0) m["kernel"] = std::string(u.sysname) + " " + u.release + " " + u.machine;
   m["compiler"] = std::string("g++ ") + __VERSION__;
   m["flags"] = LGI_BENCH_CXX_FLAGS;
+  m["peer_isa"] = *LGI_BENCH_PEER_ISA ? LGI_BENCH_PEER_ISA : "x86-64 baseline";
   json libs;
   libs["eigen"] = std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
                   std::to_string(EIGEN_MINOR_VERSION);
@@ -903,6 +910,14 @@ json machine_json() {
 int main(int argc, char** argv) {
   using namespace wp;
   const Options o = parse_args(argc, argv);
+  if (std::string_view(LGI_BENCH_PEER_ISA) == "x86-64-v3") {  // wp_peers.cpp's code needs it
+    __builtin_cpu_init();
+    if (!(__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi2"))) {
+      std::fprintf(stderr, "work_precision: the peers were compiled for x86-64-v3 (AVX2, FMA, BMI2), which this CPU "
+                           "lacks: rebuild with -DLGI_BENCH_PEERS_X86_64_V3=OFF\n");
+      return 2;
+    }
+  }
   try {
     std::vector<fs::path> files;
     for (const auto& e : fs::directory_iterator(o.cases))

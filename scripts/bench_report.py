@@ -177,7 +177,9 @@ def main():
     w("| date | %s |" % m["date"])
     w("| CPU | %s (%d logical CPUs, shared; noisy) |" % (m["cpu"], m["logical_cpus"]))
     w("| system | %s |" % m.get("kernel", "?"))
-    w("| compiler | %s, flags `%s` (lgi and the peers alike) |" % (m["compiler"], m["flags"].strip()))
+    w("| compiler | %s, flags `%s` (lgi and the peers alike); the peers' code (Boost.Odeint and every right-hand "
+      "side; GSL and SUNDIALS are Debian's builds) for %s, lgi's steps dispatched at run time to AVX2 where the CPU "
+      "has it |" % (m["compiler"], m["flags"].strip(), m.get("peer_isa", "x86-64 baseline")))
     w("| libraries | %s |" % ", ".join("%s %s" % (k, v) for k, v in m["libraries"].items()))
     w("| timing | %s; %s; %d repetitions; %s |" %
       (wp["timing"]["clock"], wp["timing"]["statistic"], wp["timing"]["repetitions"],
