@@ -61,11 +61,12 @@
 /// 8 ε(T) I3 are taken equal (their mean): J itself is only known to ε(T) in T.
 ///
 /// Numerics.
-/// - Elliptic integrals by Carlson's forms (DLMF §19.25(i), F: 19.25.5; Boost.Math ellint_rf/ellint_rj), fed
-///   with cn², dn² = cn² + m_c sn² and m_c, never 1 − κ² sin²: K = RF(0, m_c, 1), Π(n | κ) = K + (n/3) RJ(0,
-///   m_c, 1, 1 − n), Π(n; ϕ, κ) = s RF(c², d², 1) + (n/3) s³ RJ(c², d², 1, 1 − n s²) for |ϕ| ≤ π/2 (s, c =
-///   sin, cos ϕ; d² = c² + m_c s²), extended by Π(ϕ + jπ) = Π(ϕ) + 2jΠ(n | κ); checked against Boost's
-///   ellint_3/ellint_1 in the tests.
+/// - Incomplete elliptic integrals by Carlson's forms (DLMF §19.25(i), F: 19.25.5; R_F and R_J by one shared
+///   duplication, detail::carlson_f_j), fed with cn², dn² = cn² + m_c sn² and m_c, never
+///   1 − κ² sin²: Π(n; ϕ, κ) = s RF(c², d², 1) + (n/3) s³ RJ(c², d², 1, 1 − n s²) for |ϕ| ≤ π/2 (s, c =
+///   sin, cos ϕ; d² = c² + m_c s²), extended by Π(ϕ + jπ) = Π(ϕ) + 2jΠ(n | κ); the complete K(κ), Π(n | κ)
+///   by one arithmetic-geometric mean from κ' (DLMF §19.8(i), detail::complete); all checked against
+///   Boost's ellint_1/ellint_3 in the tests.
 /// - sn, cn, dn by the descending Landen transformation (DLMF §22.7(i), A&S 16.12) from κ and κ' = √m_c,
 ///   rational on the way up (detail::jacobi). Not Boost's jacobi_elliptic, measured in the tests: it takes κ
 ///   and rebuilds κ' by cancellation (sn, cn lose accuracy near the separatrix: docs/free_body_exact.md), its
@@ -127,8 +128,7 @@
 #include <Eigen/Eigenvalues>
 #include <boost/math/constants/constants.hpp>
 #include <boost/math/policies/policy.hpp>
-#include <boost/math/special_functions/ellint_rf.hpp>
-#include <boost/math/special_functions/ellint_rj.hpp>
+#include <boost/math/special_functions/log1p.hpp>
 
 #include <array>
 #include <cmath>
@@ -149,13 +149,127 @@ using Policy = boost::math::policies::policy<
     boost::math::policies::evaluation_error<boost::math::policies::ignore_error>,
     boost::math::policies::promote_float<false>, boost::math::policies::promote_double<false>>;
 
+
+// R_C(1, 1 + e) for e > −1: atan(√e)/√e for e > 0, atanh(√−e)/√−e for e < 0 (DLMF 19.2.18–19.2.19 with
+// x = 1), and for |e| ≤ 1/64 their common Maclaurin series Σ (−e)^k/(2k + 1), whose terms fall by 64 or more
+// each and are summed until they are below ε/4.
 template <class W>
-W rf(const W& x, const W& y, const W& z) {
-  return boost::math::ellint_rf(x, y, z, Policy());
+W rc_one_plus(const W& e) {
+  using std::abs;
+  using std::atan;
+  using std::sqrt;
+  if (abs(e) <= W(1) / 64) {
+    static const std::array<W, 16> inverse_odd = [] {
+      std::array<W, 16> r{};
+      for (std::size_t k = 0; k < r.size(); ++k) r[k] = W(1) / W(2 * k + 1);
+      return r;
+    }();
+    const W tol = std::numeric_limits<W>::epsilon() / 4;
+    W sum = 1, power = 1;
+    for (std::size_t k = 1; k < inverse_odd.size(); ++k) {
+      power *= -e;
+      const W term = power * inverse_odd[k];
+      sum += term;
+      if (abs(term) <= tol) break;
+    }
+    return sum;
+  }
+  if (e > 0) {
+    const W s = sqrt(e);
+    return atan(s) / s;
+  }
+  const W s = sqrt(-e);
+  return (boost::math::log1p(s, Policy()) - boost::math::log1p(-s, Policy())) / (2 * s);
 }
+
 template <class W>
-W rj(const W& x, const W& y, const W& z, const W& p) {
-  return boost::math::ellint_rj(x, y, z, p, Policy());
+struct CarlsonFJ {
+  W RF, RJ;
+};
+
+// R_F(x, y, z) and R_J(x, y, z, p) together, for x, y, z ≥ 0 (at most one zero) and p > 0, by one
+// duplication (Carlson, Numer. Algorithms 10 (1995) 13, §2, Algorithms 1 and 3; the two share x_m, y_m,
+// z_m and λ_m): with λ_m = √x_m√y_m + √x_m√z_m + √y_m√z_m, d_m = (√p_m + √x_m)(√p_m + √y_m)(√p_m + √z_m),
+// (x, y, z, p, A, B)_{m+1} = ((x, y, z, p, A, B)_m + λ_m)/4, δ_{m+1} = δ_m/64, A₀ = (x + y + z + 2p)/5,
+// B₀ = (x + y + z)/3, δ₀ = (p − x)(p − y)(p − z),
+//   R_F = B_M^{−1/2} (1 − E₂/10 + E₃/14 + E₂²/24 − 3E₂E₃/44 − 5E₂³/208 + 3E₃²/104 + E₂²E₃/16)   (DLMF 19.36.1)
+//   R_J = 4^{−M} A_M^{−3/2} (1 − 3E₂/14 + E₃/6 + 9E₂²/88 − 3E₄/22 − 9E₂E₃/52 + 3E₅/26)         (DLMF 19.36.2)
+//         + 6 Σ_{m<M} 4^{−m} R_C(1, 1 + δ_m/d_m²)/d_m,
+// each E from its own scaled differences (x₀ − B₀)4^{−M}/B_M, …; M the first index with
+// 4^{−M} (ε/4)^{−1/6} max|A₀ − (x, y, z, p)₀| < |A_M| and 4^{−M} (3ε)^{−1/6} max|B₀ − (x, y, z)₀| < |B_M|.
+// Relative errors a few ε (tests: against Boost's ellint_1, ellint_3 in 113 bits). Not Boost's ellint_rf and
+// ellint_rj: two duplications of the same x, y, z, and an R_C call (with atan) for every step of R_J.
+template <class W>
+CarlsonFJ<W> carlson_f_j(const W& x0, const W& y0, const W& z0, const W& p0) {
+  using std::abs;
+  using std::max;
+  using std::pow;
+  using std::sqrt;
+  static const W scale_j = pow(std::numeric_limits<W>::epsilon() / 4, W(-1) / W(6));
+  static const W scale_f = pow(3 * std::numeric_limits<W>::epsilon(), W(-1) / W(6));
+  const W A0 = (x0 + y0 + z0 + 2 * p0) / 5, B0 = (x0 + y0 + z0) / 3;
+  const W QJ = scale_j * max(max(abs(A0 - x0), abs(A0 - y0)), max(abs(A0 - z0), abs(A0 - p0)));
+  const W QF = scale_f * max(max(abs(B0 - x0), abs(B0 - y0)), abs(B0 - z0));
+  W x = x0, y = y0, z = z0, p = p0, A = A0, B = B0, delta = (p0 - x0) * (p0 - y0) * (p0 - z0), f = 1, sum = 0;
+  for (int m = 0; m < 100 && (f * QJ >= abs(A) || f * QF >= abs(B)); ++m) {
+    const W rx = sqrt(x), ry = sqrt(y), rz = sqrt(z), rp = sqrt(p);
+    const W d = (rp + rx) * (rp + ry) * (rp + rz);
+    sum += f * rc_one_plus(W(delta / (d * d))) / d;
+    const W lambda = rx * ry + rx * rz + ry * rz;
+    x = (x + lambda) / 4;
+    y = (y + lambda) / 4;
+    z = (z + lambda) / 4;
+    p = (p + lambda) / 4;
+    A = (A + lambda) / 4;
+    B = (B + lambda) / 4;
+    f /= 4;
+    delta /= 64;
+  }
+  CarlsonFJ<W> r;
+  {
+    const W X = f * (B0 - x0) / B, Y = f * (B0 - y0) / B, Z = -(X + Y);
+    const W E2 = X * Y - Z * Z, E3 = X * Y * Z;
+    r.RF = (1 + E3 * (W(1) / 14 + 3 * E3 / 104) + E2 * (W(-1) / 10 + E2 / 24 - 3 * E3 / 44 - 5 * E2 * E2 / 208 + E2 * E3 / 16)) /
+           sqrt(B);
+  }
+  const W X = f * (A0 - x0) / A, Y = f * (A0 - y0) / A, Z = f * (A0 - z0) / A, P = -(X + Y + Z) / 2;
+  const W P2 = P * P, XYZ = X * Y * Z;
+  const W E2 = X * Y + X * Z + Y * Z - 3 * P2;
+  const W E3 = XYZ + 2 * E2 * P + 4 * P * P2;
+  const W E4 = (2 * XYZ + E2 * P + 3 * P * P2) * P;
+  const W E5 = XYZ * P2;
+  const W series = 1 - 3 * E2 / 14 + E3 / 6 + 9 * E2 * E2 / 88 - 3 * E4 / 22 - 9 * E2 * E3 / 52 + 3 * E5 / 26;
+  r.RJ = f * series / (A * sqrt(A)) + 6 * sum;
+  return r;
+}
+
+template <class W>
+struct Complete {
+  W K, Pi;
+};
+
+// K(κ) and Π(n | κ) for n < 1 from κ' = √m_c by one arithmetic-geometric mean (DLMF §19.8(i), 19.8.5–19.8.7):
+// a₀ = 1, g₀ = κ', p₀ = √(1 − n), Q₀ = 1; ε_m = (p_m² − a_m g_m)/(p_m² + a_m g_m), Q_{m+1} = Q_m ε_m/2,
+// p_{m+1} = (p_m² + a_m g_m)/(2p_m), (a, g)_{m+1} = ((a_m + g_m)/2, √(a_m g_m)) until a and Σ Q are
+// converged; K = π/(2M), Π = π/(4M) (2 + n/(1 − n) Σ Q), M = lim a_m. Quadratic convergence: ≈ 5 steps
+// at κ' = 0.01, where the duplication of R_F(0, m_c, 1) and R_J(0, m_c, 1, 1 − n) takes ≈ 10 each.
+template <class W>
+Complete<W> complete(const W& kc, const W& n) {
+  using std::abs;
+  using std::sqrt;
+  const W tol = std::numeric_limits<W>::epsilon();
+  W a = 1, g = kc, p = sqrt(W(1) - n), Q = 1, sum = 0;
+  for (int m = 0; m < 64; ++m) {
+    const W ag = a * g, p2 = p * p;
+    sum += Q;
+    if (abs(a - g) <= tol * a && abs(Q) <= tol * abs(sum)) break;
+    Q *= (p2 - ag) / (2 * (p2 + ag));
+    p = (p2 + ag) / (2 * p);
+    a = (a + g) / 2;
+    g = sqrt(ag);
+  }
+  const W quarter_pi_over_M = boost::math::constants::pi<W>() / (4 * a);
+  return {2 * quarter_pi_over_M, quarter_pi_over_M * (2 + n / (1 - n) * sum)};
 }
 
 // x − y·round(x/y), and whether the integer-valued j is odd (written with floor only, so that W may be a
@@ -294,8 +408,9 @@ Jacobi<W> jacobi(const W& u, const W& k, const W& kc) {
 template <class W>
 void legendre_f_pi(const W& s, const W& c, const W& d2, const W& n, W& F, W& Pi) {
   const W c2 = c * c;
-  F = s * rf(c2, d2, W(1));
-  Pi = F + (n / 3) * s * s * s * rj(c2, d2, W(1), W(1) - n * s * s);
+  const CarlsonFJ<W> r = carlson_f_j(c2, d2, W(1), W(1) - n * s * s);
+  F = s * r.RF;
+  Pi = F + (n / 3) * s * s * s * r.RJ;
 }
 
 }  // namespace free_body_exact_detail
@@ -306,7 +421,7 @@ void legendre_f_pi(const W& s, const W& c, const W& d2, const W& n, W& F, W& Pi)
 template <class T = double, class W = long double>
 class FreeBodyExact {
   static_assert(std::is_floating_point_v<T> && std::numeric_limits<W>::is_specialized && !std::numeric_limits<W>::is_integer,
-                "FreeBodyExact: floating-point scalars only (Boost's elliptic integrals; no ceres::Jet)");
+                "FreeBodyExact: floating-point scalars only (no ceres::Jet)");
   static_assert(std::numeric_limits<W>::digits >= std::numeric_limits<T>::digits, "FreeBodyExact: W narrower than T");
 
  public:
@@ -475,12 +590,13 @@ class FreeBodyExact {
 
     /// Computes K(κ) and Π(n | κ) once (elliptic regimes; no effect in the others), so that state(t) and
     /// momentum_state(t) at long times (|λt| > 4), and where am u crosses ±π/2, cost one Landen descent + 1 RF +
-    /// 1 RJ instead of 3 RF + 2 RJ: for a solution evaluated at many times. The values are those computed
-    /// otherwise (the same bits).
+    /// 1 RJ and no AGM: for a solution evaluated at many times. The values are those computed otherwise (the
+    /// same bits: both come from detail::complete).
     void precompute_periods() {
       if (regime_ != Regime::axis1 && regime_ != Regime::axis3) return;
-      K_ = complete_k();
-      Pic_ = complete_pi();
+      const free_body_exact_detail::Complete<W> c = free_body_exact_detail::complete(kc_, n_);
+      K_ = c.K;
+      Pic_ = c.Pi;
       periods_ = true;
     }
 
@@ -555,7 +671,9 @@ class FreeBodyExact {
             cn = s0 * f.cn;
             dn = f.dn;
           } else {
-            const W K = complete_k(), Pic = complete_pi();
+            const free_body_exact_detail::Complete<W> c =
+                periods_ ? free_body_exact_detail::Complete<W>{K_, Pic_} : free_body_exact_detail::complete(kc_, n_);
+            const W K = c.K, Pic = c.Pi;
             W j;
             const W r = reduce(W(2 * j0_ * K + F0_ + lt), W(2 * K), j);
             const free_body_exact_detail::Jacobi<W> f = jacobi(r, k_, kc_);
@@ -575,13 +693,11 @@ class FreeBodyExact {
       }
     }
 
-    /// K(κ) = RF(0, m_c, 1) and Π(n | κ) = K + (n/3) RJ(0, m_c, 1, 1 − n): only long times and a
+    /// K(κ) and Π(n | κ) by one AGM (detail::complete): only long times and a
     /// crossing of am u = ±π/2 need them, so they are not part of solve() (precompute_periods stores them for
     /// a solution evaluated at many times).
-    W complete_k() const { return periods_ ? K_ : W(free_body_exact_detail::rf(W(0), mc_, W(1))); }
-    W complete_pi() const {
-      return periods_ ? Pic_ : W(complete_k() + (n_ / 3) * free_body_exact_detail::rj(W(0), mc_, W(1), W(1) - n_));
-    }
+    W complete_k() const { return periods_ ? K_ : free_body_exact_detail::complete(kc_, n_).K; }
+    W complete_pi() const { return periods_ ? Pic_ : free_body_exact_detail::complete(kc_, n_).Pi; }
 
     /// The increment of the amplitude over Δu = v, |v| ≤ 4, from its value modulo 2π: am' = dn ∈ [κ', 1], so
     /// Δam lies within |v|(1 − κ')/2 ≤ 2 of v(1 + κ')/2, and of the candidates d + 2πj exactly one does.

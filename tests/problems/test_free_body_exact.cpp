@@ -37,6 +37,7 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 
@@ -722,6 +723,34 @@ TEST(FreeBodyExact, SpecialFunctionsAgreeWithBoost) {
   EXPECT_LE(worst_f, 1e-17);
 }
 
+// K(κ) and Π(n | κ) by the AGM from κ' (detail::complete) against Boost's ellint_1, ellint_3 in 113 bits, at
+// the κ' given (m_c = κ'² formed in 113 bits), from m_c = 0.95 to the separatrix's 1e-12; n < 0 as in the
+// solution (n = −12: Π = K(1 − O(1)) loses a few digits to cancellation in any form, Carlson's included).
+template <class W>
+void complete_integrals_agree(double tol_k, double tol_pi) {
+  const double eps = std::numeric_limits<W>::epsilon();
+  double worst_k = 0, worst_pi = 0;
+  for (L mc : {0.95L, 0.5L, 0.1L, 0.01L, 1e-4L, 1e-8L, 1e-12L}) {
+    const W kc = W(std::sqrt(mc));
+    const Quad mq = Quad(kc) * Quad(kc), kq = sqrt(1 - mq);
+    const Quad K = boost::math::ellint_1(kq);
+    for (L n : {-0.001L, -0.3L, -1.7L, -12.0L}) {
+      const free_body_exact_detail::Complete<W> c = free_body_exact_detail::complete(kc, W(n));
+      const Quad Pi = boost::math::ellint_3(kq, Quad(n));
+      worst_k = std::max(worst_k, double(abs((Quad(c.K) - K) / K)) / eps);
+      worst_pi = std::max(worst_pi, double(abs((Quad(c.Pi) - Pi) / Pi)) / eps);
+    }
+  }
+  std::printf("%s: K, Pi(n | k) relative errors %.2f, %.2f eps\n", std::is_same_v<W, double> ? "double" : "long double",
+              worst_k, worst_pi);
+  EXPECT_LE(worst_k, tol_k);
+  EXPECT_LE(worst_pi, tol_pi);
+}
+TEST(FreeBodyExact, CompleteIntegralsByTheAgm) {
+  complete_integrals_agree<double>(3, 16);
+  complete_integrals_agree<L>(3, 16);
+}
+
 // Near the separatrix (m_c → 0): the descending Landen transformation started from √m_c keeps full
 // accuracy; Boost's jacobi_elliptic takes κ and rebuilds κ' = √(1 − κ²) from it, which loses m_c to
 // cancellation, and its AGM form takes asin of arguments → 1 where sn → ±1; its dn is 0/0 at cn = 0 — the
@@ -731,7 +760,7 @@ TEST(FreeBodyExact, JacobiFunctionsNearTheSeparatrix) {
               "cn | dn\n");
   for (L mc : {1e-4L, 1e-8L, 1e-12L, 1e-16L}) {
     const L k = std::sqrt(1 - mc), kc = std::sqrt(mc);
-    const L K = free_body_exact_detail::rf(L(0), mc, L(1));
+    const L K = free_body_exact_detail::complete(kc, L(-1)).K;
     L own = 0, boost_sncn = 0, boost_dn = 0;
     for (int i = 0; i <= 20; ++i) {
       const L u = K * i / 20;
