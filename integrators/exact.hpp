@@ -23,9 +23,9 @@
 /// the flow itself.
 ///
 /// Applies to torque-free problems (P::has_torque false: the free body, any symmetric positive-definite J)
-/// with floating-point scalars (Boost's elliptic integrals; no ceres::Jet).
-/// Cost: the first step solves (1 RF + 1 RJ, and K, Π(n | κ) once: 2 RF + 1 RJ); each step then costs one
-/// evaluation (a Landen descent, 1 RF + 1 RJ, one 3 × 3 frame), independent of t and of dt.
+/// with floating-point scalars (no ceres::Jet).
+/// Cost: the first step solves (one Carlson duplication for R_F and R_J, and K, Π(n | κ) once: one AGM); each
+/// step then costs one evaluation (a Landen descent, one duplication, one 3 × 3 frame), independent of t and of dt.
 #pragma once
 
 #include "../core/integrator.hpp"

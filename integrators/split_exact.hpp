@@ -17,8 +17,8 @@
 /// and of V). Order 2 with a torque (symmetric, so compositions raise it: composition.hpp); exact (to
 /// round-off) on the free body. Symplectic (a composition of exact Hamiltonian flows), explicit, m·k and
 /// |Γ| kept to round-off, R on SO(3) to round-off (the exact flow's increments). Scalars: double and long
-/// double only (Boost's elliptic integrals; no ceres::Jet). Cost: one exact flow (≈ µs: two Carlson
-/// integrals and an AGM per call), so this is a reference-quality method, not a fast one.
+/// double only (no ceres::Jet). Cost: one exact flow (≈ µs: a Carlson duplication for R_F and R_J and a
+/// Landen descent per call), so this is a reference-quality method, not a fast one.
 #pragma once
 
 #include "../core/state_io.hpp"
@@ -32,7 +32,7 @@
 namespace lgi {
 
 /// kick(h/2) ∘ exact free body(h) ∘ kick(h/2) (this header) as a Stepper on problem P: explicit, symmetric,
-/// symplectic, order 2 (exact on the free body). Floating-point scalars only (Boost's elliptic integrals).
+/// symplectic, order 2 (exact on the free body). Floating-point scalars only.
 template <AttitudeTorqueProblem P>
   requires std::is_floating_point_v<typename P::Scalar>
 class SplitExact {
@@ -78,7 +78,7 @@ class SplitExact {
 
   /// One step from t to t + h (the header's update): ok or non_finite, y untouched unless ok. Cost: one torque and
   /// one exact flow (a few elliptic functions and integrals in long double).
-  // Not LGI_FLATTEN: flattening would inline all of Boost's elliptic integrals into the step (GCC then
+  // Not LGI_FLATTEN: flattening would inline all of the exact flow's special functions into the step (GCC then
   // compiles one translation unit for tens of minutes); the exact flow dominates the cost anyway.
   StepStatus step(Internal& y, const Scalar& t, const Scalar& h) {
     using T = Scalar;

@@ -100,9 +100,9 @@
 ///
 /// Scalars: T = float, double or long double; W ≥ T a floating-point type (long double, double, or a
 /// Boost.Multiprecision type, used by the tests as a 113-bit reference; the eigensolver then still runs in
-/// long double). Not ceres::Jet: the special functions are Boost's, for arithmetic types only.
-/// Cost: one solve = 1 RF + 1 RJ; one evaluation = one Landen descent + 1 RF + 1 RJ (+ 2 RF + 1 RJ for
-/// K, Π(n | κ) at long times or when am u crosses ±π/2); W = long double is several times slower than
+/// long double). Not ceres::Jet (floating-point scalars only).
+/// Cost: one solve = one Carlson duplication (R_F and R_J together); one evaluation = one Landen descent + one
+/// duplication (+ one AGM for K, Π(n | κ) at long times or when am u crosses ±π/2, unless precompute_periods); W = long double is several times slower than
 /// W = double (x87 transcendental functions; times per call: docs/free_body_exact.md, CostPerCall). Use
 /// `FreeBodyExact<double, double>` for splittings (short h: the linear growth in t is irrelevant, and
 /// invariants random-walk as above), the default W = long double as a reference solution.
@@ -127,9 +127,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <boost/math/constants/constants.hpp>
-#include <boost/math/policies/policy.hpp>
-#include <boost/math/special_functions/log1p.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -140,27 +139,17 @@ namespace lgi {
 
 namespace free_body_exact_detail {
 
-// Errors return NaN instead of throwing (a non-finite state is the caller's status to report); no
-// promotion: W is already the working precision.
-using Policy = boost::math::policies::policy<
-    boost::math::policies::domain_error<boost::math::policies::ignore_error>,
-    boost::math::policies::pole_error<boost::math::policies::ignore_error>,
-    boost::math::policies::overflow_error<boost::math::policies::ignore_error>,
-    boost::math::policies::evaluation_error<boost::math::policies::ignore_error>,
-    boost::math::policies::promote_float<false>, boost::math::policies::promote_double<false>>;
-
-
-// R_C(1, 1 + e) for e > −1: atan(√e)/√e for e > 0, atanh(√−e)/√−e for e < 0 (DLMF 19.2.18–19.2.19 with
-// x = 1), and for |e| ≤ 1/64 their common Maclaurin series Σ (−e)^k/(2k + 1), whose terms fall by 64 or more
-// each and are summed until they are below ε/4.
+// R_C(1, 1 + e) = atan(√e)/√e for e ≥ 0 (DLMF 19.2.18 with x = 1); for e ≤ 1/64 by its Maclaurin series
+// Σ (−e)^k/(2k + 1), whose terms fall by 64 or more each and are summed until they are below ε/4 (at most
+// W's digits/6 + 2 terms past the first).
 template <class W>
 W rc_one_plus(const W& e) {
   using std::abs;
   using std::atan;
   using std::sqrt;
-  if (abs(e) <= W(1) / 64) {
-    static const std::array<W, 16> inverse_odd = [] {
-      std::array<W, 16> r{};
+  if (e <= W(1) / 64) {
+    static const std::array<W, std::numeric_limits<W>::digits / 6 + 3> inverse_odd = [] {
+      std::array<W, std::numeric_limits<W>::digits / 6 + 3> r{};
       for (std::size_t k = 0; k < r.size(); ++k) r[k] = W(1) / W(2 * k + 1);
       return r;
     }();
@@ -174,12 +163,8 @@ W rc_one_plus(const W& e) {
     }
     return sum;
   }
-  if (e > 0) {
-    const W s = sqrt(e);
-    return atan(s) / s;
-  }
-  const W s = sqrt(-e);
-  return (boost::math::log1p(s, Policy()) - boost::math::log1p(-s, Policy())) / (2 * s);
+  const W s = sqrt(e);
+  return atan(s) / s;
 }
 
 template <class W>
@@ -187,17 +172,19 @@ struct CarlsonFJ {
   W RF, RJ;
 };
 
-// R_F(x, y, z) and R_J(x, y, z, p) together, for x, y, z ≥ 0 (at most one zero) and p > 0, by one
+// R_F(x, y, z) and R_J(x, y, z, p) together, for x, y, z ≥ 0 (at most one zero) and p ≥ max(x, y, z) (as in
+// Π(n; ϕ, κ) with n < 0: then δ_m ≥ 0 and every R_C term is an arctangent's), by one
 // duplication (Carlson, Numer. Algorithms 10 (1995) 13, §2, Algorithms 1 and 3; the two share x_m, y_m,
 // z_m and λ_m): with λ_m = √x_m√y_m + √x_m√z_m + √y_m√z_m, d_m = (√p_m + √x_m)(√p_m + √y_m)(√p_m + √z_m),
 // (x, y, z, p, A, B)_{m+1} = ((x, y, z, p, A, B)_m + λ_m)/4, δ_{m+1} = δ_m/64, A₀ = (x + y + z + 2p)/5,
 // B₀ = (x + y + z)/3, δ₀ = (p − x)(p − y)(p − z),
 //   R_F = B_M^{−1/2} (1 − E₂/10 + E₃/14 + E₂²/24 − 3E₂E₃/44 − 5E₂³/208 + 3E₃²/104 + E₂²E₃/16)   (DLMF 19.36.1)
-//   R_J = 4^{−M} A_M^{−3/2} (1 − 3E₂/14 + E₃/6 + 9E₂²/88 − 3E₄/22 − 9E₂E₃/52 + 3E₅/26)         (DLMF 19.36.2)
+//   R_J = 4^{−M} A_M^{−3/2} (1 − 3E₂/14 + E₃/6 + 9E₂²/88 − 3E₄/22 − 9E₂E₃/52 + 3E₅/26)  (DLMF 19.36.2 to
+//         fifth order, Carlson's cut, for which the (ε/4)^{−1/6} below is chosen)
 //         + 6 Σ_{m<M} 4^{−m} R_C(1, 1 + δ_m/d_m²)/d_m,
-// each E from its own scaled differences (x₀ − B₀)4^{−M}/B_M, …; M the first index with
+// each E from its own scaled differences (B₀ − x₀)4^{−M}/B_M, (A₀ − x₀)4^{−M}/A_M, …; M the first index with
 // 4^{−M} (ε/4)^{−1/6} max|A₀ − (x, y, z, p)₀| < |A_M| and 4^{−M} (3ε)^{−1/6} max|B₀ − (x, y, z)₀| < |B_M|.
-// Relative errors a few ε (tests: against Boost's ellint_1, ellint_3 in 113 bits). Not Boost's ellint_rf and
+// Relative errors a few ε (tests: F and Π against Boost's ellint_1, ellint_3 in 113 bits). Not Boost's ellint_rf and
 // ellint_rj: two duplications of the same x, y, z, and an R_C call (with atan) for every step of R_J.
 template <class W>
 CarlsonFJ<W> carlson_f_j(const W& x0, const W& y0, const W& z0, const W& p0) {
@@ -251,8 +238,9 @@ struct Complete {
 // K(κ) and Π(n | κ) for n < 1 from κ' = √m_c by one arithmetic-geometric mean (DLMF §19.8(i), 19.8.5–19.8.7):
 // a₀ = 1, g₀ = κ', p₀ = √(1 − n), Q₀ = 1; ε_m = (p_m² − a_m g_m)/(p_m² + a_m g_m), Q_{m+1} = Q_m ε_m/2,
 // p_{m+1} = (p_m² + a_m g_m)/(2p_m), (a, g)_{m+1} = ((a_m + g_m)/2, √(a_m g_m)) until a and Σ Q are
-// converged; K = π/(2M), Π = π/(4M) (2 + n/(1 − n) Σ Q), M = lim a_m. Quadratic convergence: ≈ 5 steps
-// at κ' = 0.01, where the duplication of R_F(0, m_c, 1) and R_J(0, m_c, 1, 1 − n) takes ≈ 10 each.
+// converged; K = π/(2M), Π = π/(4M) (2 + n/(1 − n) Σ Q), M = lim a_m taken as (a + g)/2 of the last pair.
+// Quadratic convergence: ≈ 5 steps at κ' = 0.01, where the duplication of R_F(0, m_c, 1) and R_J(0, m_c, 1, 1 − n)
+// takes ≈ 10 each.
 template <class W>
 Complete<W> complete(const W& kc, const W& n) {
   using std::abs;
@@ -268,7 +256,7 @@ Complete<W> complete(const W& kc, const W& n) {
     a = (a + g) / 2;
     g = sqrt(ag);
   }
-  const W quarter_pi_over_M = boost::math::constants::pi<W>() / (4 * a);
+  const W quarter_pi_over_M = boost::math::constants::pi<W>() / (2 * (a + g));
   return {2 * quarter_pi_over_M, quarter_pi_over_M * (2 + n / (1 - n) * sum)};
 }
 
