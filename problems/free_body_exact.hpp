@@ -148,8 +148,9 @@ W rc_one_plus(const W& e) {
   using std::atan;
   using std::sqrt;
   if (e <= W(1) / 64) {
-    static const std::array<W, std::numeric_limits<W>::digits / 6 + 3> inverse_odd = [] {
-      std::array<W, std::numeric_limits<W>::digits / 6 + 3> r{};
+    using Table = std::array<W, std::numeric_limits<W>::digits / 6 + 3>;
+    static const Table inverse_odd = [] {
+      Table r{};
       for (std::size_t k = 0; k < r.size(); ++k) r[k] = W(1) / W(2 * k + 1);
       return r;
     }();
@@ -659,8 +660,7 @@ class FreeBodyExact {
             cn = s0 * f.cn;
             dn = f.dn;
           } else {
-            const free_body_exact_detail::Complete<W> c =
-                periods_ ? free_body_exact_detail::Complete<W>{K_, Pic_} : free_body_exact_detail::complete(kc_, n_);
+            const free_body_exact_detail::Complete<W> c = complete_integrals();
             const W K = c.K, Pic = c.Pi;
             W j;
             const W r = reduce(W(2 * j0_ * K + F0_ + lt), W(2 * K), j);
@@ -684,8 +684,11 @@ class FreeBodyExact {
     /// K(κ) and Π(n | κ) by one AGM (detail::complete): only long times and a
     /// crossing of am u = ±π/2 need them, so they are not part of solve() (precompute_periods stores them for
     /// a solution evaluated at many times).
-    W complete_k() const { return periods_ ? K_ : free_body_exact_detail::complete(kc_, n_).K; }
-    W complete_pi() const { return periods_ ? Pic_ : free_body_exact_detail::complete(kc_, n_).Pi; }
+    free_body_exact_detail::Complete<W> complete_integrals() const {
+      return periods_ ? free_body_exact_detail::Complete<W>{K_, Pic_} : free_body_exact_detail::complete(kc_, n_);
+    }
+    W complete_k() const { return complete_integrals().K; }
+    W complete_pi() const { return complete_integrals().Pi; }
 
     /// The increment of the amplitude over Δu = v, |v| ≤ 4, from its value modulo 2π: am' = dn ∈ [κ', 1], so
     /// Δam lies within |v|(1 − κ')/2 ≤ 2 of v(1 + κ')/2, and of the candidates d + 2πj exactly one does.
